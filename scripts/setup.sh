@@ -8,8 +8,13 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libdart-dev libdart-utils-dev libdart-utils-urdf-dev libdart-collision-bullet-dev
   libdart-external-ikfast-dev
-  nodejs npm chromium ffmpeg
+  chromium ffmpeg
 )
+
+# Node.js (with npm) runs the viewer; the image may already ship one (e.g. NodeSource's nodejs,
+# which bundles npm and conflicts with Debian's npm package), so only install it when absent.
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
