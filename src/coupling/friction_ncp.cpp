@@ -1,0 +1,234 @@
+#include "coupling/friction_ncp.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.hpp"
+
+namespace dexcloth::coupling {
+namespace {
+
+/// Problem data shared by the candidates: a = m/h, capacities c_i = μ_i fN_i, and the relative
+/// tangential velocities u_i (projected on the common plane).
+struct Problem {
+  int count{};
+  double a{};
+  std::array<double, kMaxVertexContacts> c{};
+  std::array<Vec3, kMaxVertexContacts> u{};
+  Mat3 P{Mat3::Identity()};
+  double speed_eps{};  ///< speeds below this are zero [m/s]
+};
+
+Mat3 tangent_projector(const Vec3& n) {
+  const Vec3 nn = n.normalized();
+  return Mat3::Identity() - nn * nn.transpose();
+}
+
+/// Tolerance of the checks, as a force [N].
+double force_scale(const Problem& p) {
+  double s = 0.0;
+  for (int i = 0; i < p.count; ++i) s = std::max({s, p.c[i], p.a * p.u[i].norm()});
+  return s + 1e-300;
+}
+
+/// Candidate "static at k": the vertex moves with contact k, Δv = −u_k. Contacts moving with k
+/// share the remaining force in proportion to their capacity; the others slide against it.
+bool try_static_at(const Problem& p, int k, FrictionResult& r) {
+  const Vec3 dv = -p.u[k];
+  Vec3 remainder = p.a * dv;
+  double static_capacity = 0.0;
+  for (int i = 0; i < p.count; ++i) {
+    const Vec3 w = p.u[i] + dv;
+    const double speed = w.norm();
+    r.sticking[i] = speed <= p.speed_eps;
+    if (r.sticking[i]) {
+      static_capacity += p.c[i];
+    } else {
+      r.force[i] = -p.c[i] * w / speed;
+      remainder -= r.force[i];
+    }
+  }
+  // The sticking contacts must be able to supply the remainder inside their cones.
+  const double need = remainder.norm();
+  if (need > static_capacity * (1.0 + 1e-12) + 1e-14 * force_scale(p)) return false;
+  for (int i = 0; i < p.count; ++i)
+    if (r.sticking[i])
+      r.force[i] = static_capacity > 0.0 ? Vec3(remainder * (p.c[i] / static_capacity))
+                                         : Vec3::Zero();
+  r.delta_v = dv;
+  r.which = FrictionCase::static_at;
+  r.anchor = k;
+  return true;
+}
+
+/// General contact planes: block Gauss–Seidel, each block solved exactly (stick if the cone can
+/// stop it, else slide at the cone boundary).
+/// `common`, when given, is the tangent projector shared by all contacts (parallel planes).
+void solve_general(std::span<const FrictionContact> contacts, double a, const Mat3* common,
+                   FrictionResult& r) {
+  const int m = static_cast<int>(contacts.size());
+  std::array<Mat3, kMaxVertexContacts> P;
+  for (int i = 0; i < m; ++i) P[i] = common ? *common : tangent_projector(contacts[i].normal);
+  Vec3 total = Vec3::Zero();
+  for (int iter = 0; iter < 2000; ++iter) {
+    double change = 0.0, scale = 1e-300;
+    for (int i = 0; i < m; ++i) {
+      const double c = contacts[i].mu * contacts[i].normal_force;
+      const Vec3 others = total - r.force[i];
+      const Vec3 u = P[i] * (contacts[i].relative_velocity + others / a);
+      const Vec3 f = a * u.norm() <= c ? Vec3(-a * u) : Vec3(-c * u.normalized());
+      change = std::max(change, (f - r.force[i]).norm());
+      scale = std::max({scale, c, a * u.norm()});
+      total = others + f;
+      r.force[i] = f;
+    }
+    if (change <= 1e-15 * scale) break;
+  }
+  r.delta_v = total / a;
+  for (int i = 0; i < m; ++i)
+    r.sticking[i] = (P[i] * (contacts[i].relative_velocity + r.delta_v)).norm() <=
+                    1e-12 * (1.0 + contacts[i].relative_velocity.norm());
+  r.which = FrictionCase::general;
+}
+
+/// Candidate "all dynamic": minimise ½a‖Δv‖² + Σ c_i‖u_i + Δv‖, valid when no relative velocity
+/// ends at zero (then every force is −c_i ŵ_i). Newton alone can stall near a kink it does not
+/// end at, so it starts from the block Gauss–Seidel answer and only polishes it.
+bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts, FrictionResult& r) {
+  // Gradient of the objective in the plane, and its Hessian; false at a kink (a contact sticks).
+  const auto gradient = [&](const Vec3& dv, Vec3& g, Mat3* H) {
+    g = p.a * dv;
+    if (H) *H = p.a * Mat3::Identity();
+    for (int i = 0; i < p.count; ++i) {
+      const Vec3 w = p.u[i] + dv;
+      const double s = w.norm();
+      if (s <= p.speed_eps) return false;
+      const Vec3 wh = w / s;
+      g += p.c[i] * wh;
+      if (H) *H += (p.c[i] / s) * (Mat3::Identity() - wh * wh.transpose());
+    }
+    g = p.P * g;
+    return true;
+  };
+  const auto objective = [&](const Vec3& dv) {
+    double f = 0.5 * p.a * dv.squaredNorm();
+    for (int i = 0; i < p.count; ++i) f += p.c[i] * (p.u[i] + dv).norm();
+    return f;
+  };
+  FrictionResult start;
+  solve_general(contacts, p.a, &p.P, start);
+  Vec3 dv = start.delta_v, g;
+  Mat3 H;
+  for (int iter = 0; iter < 20; ++iter) {
+    if (!gradient(dv, g, &H)) return false;
+    if (g.norm() <= 1e-15 * force_scale(p)) break;
+    // Newton step in the plane (P H P + n nᵀ keeps the normal direction out of it); backtrack
+    // until the objective or, near the solution where it is flat to rounding, the gradient drops.
+    const Mat3 Hp = p.P * H * p.P + (Mat3::Identity() - p.P);
+    const Vec3 step = -(p.P * Hp.ldlt().solve(g));
+    const double f0 = objective(dv), g0 = g.norm();
+    double t = 1.0;
+    for (; t > 1e-12; t *= 0.5) {
+      Vec3 g_new;
+      const Vec3 trial = dv + t * step;
+      if (!gradient(trial, g_new, nullptr)) continue;
+      const double f = objective(trial);
+      // Armijo on the objective; where it is flat to rounding, require the gradient to drop.
+      const bool resolvable = std::abs(f - f0) > 1e-13 * std::abs(f0);
+      if (resolvable ? f <= f0 + 1e-4 * t * g.dot(step) : g_new.norm() < (1.0 - 1e-4 * t) * g0)
+        break;
+    }
+    if (t <= 1e-12) break;
+    dv += t * step;
+  }
+  for (int i = 0; i < p.count; ++i) {
+    const Vec3 w = p.u[i] + dv;
+    const double s = w.norm();
+    if (s <= p.speed_eps) return false;
+    r.force[i] = -p.c[i] * w / s;
+    r.sticking[i] = false;
+  }
+  r.delta_v = dv;
+  r.which = FrictionCase::all_dynamic;
+  return true;
+}
+
+}  // namespace
+
+FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h) {
+  DEXCLOTH_DEMAND(contacts.size() <= static_cast<std::size_t>(kMaxVertexContacts));
+  DEXCLOTH_DEMAND(mass > 0.0 && h > 0.0);
+  FrictionResult r;
+  Problem p;
+  p.count = static_cast<int>(contacts.size());
+  p.a = mass / h;
+  double capacity = 0.0;
+  bool parallel = true;
+  const Vec3 n0 = p.count > 0 ? contacts[0].normal.normalized() : Vec3::UnitZ();
+  p.P = tangent_projector(n0);
+  double max_speed = 0.0;
+  for (int i = 0; i < p.count; ++i) {
+    p.c[i] = contacts[i].mu * contacts[i].normal_force;
+    capacity += p.c[i];
+    p.u[i] = p.P * contacts[i].relative_velocity;
+    max_speed = std::max(max_speed, p.u[i].norm());
+    parallel = parallel && contacts[i].normal.normalized().cross(n0).norm() <= 1e-6;
+  }
+  p.speed_eps = 1e-14 + 1e-12 * max_speed;
+  if (capacity <= 0.0) return r;  // no friction: fT = 0
+
+  if (!parallel) {
+    solve_general(contacts, p.a, nullptr, r);
+  } else {
+    // Static candidates, most likely first by the paper's heuristic μ‖fN‖ − m‖v_r‖/h (eq. 7).
+    std::array<int, kMaxVertexContacts> order{};
+    std::array<double, kMaxVertexContacts> margin{};
+    for (int i = 0; i < p.count; ++i) {
+      margin[i] = p.c[i] - p.a * p.u[i].norm();
+      // Insertion sort, largest margin first (M is tiny).
+      int j = i;
+      for (; j > 0 && margin[order[j - 1]] < margin[i]; --j) order[j] = order[j - 1];
+      order[j] = i;
+    }
+    bool found = false;
+    for (int k = 0; k < p.count && !found; ++k) {
+      FrictionResult candidate;
+      if (try_static_at(p, order[k], candidate)) {
+        r = candidate;
+        found = true;
+      }
+    }
+    if (!found) {
+      FrictionResult candidate;
+      if (try_all_dynamic(p, contacts, candidate)) {
+        r = candidate;
+        found = true;
+      }
+    }
+    if (!found) solve_general(contacts, p.a, &p.P, r);
+  }
+  r.ok = friction_violation(contacts, mass, h, r) <= 1e-9 * force_scale(p);
+  return r;
+}
+
+double friction_violation(std::span<const FrictionContact> contacts, double mass, double h,
+                          const FrictionResult& r) {
+  const double a = mass / h;
+  Vec3 sum = Vec3::Zero();
+  double worst = 0.0;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const double c = contacts[i].mu * contacts[i].normal_force;
+    const Vec3& f = r.force[i];
+    sum += f;
+    const Vec3 w = tangent_projector(contacts[i].normal) * (contacts[i].relative_velocity + r.delta_v);
+    const double fn = f.norm();
+    // Cone, complementarity (as a force), and a sliding force opposing the sliding.
+    worst = std::max(worst, fn - c);
+    worst = std::max(worst, std::abs(c - fn) * std::min(1.0, a * w.norm() / (c + 1e-300)));
+    if (a * w.norm() > 1e-9 * (c + 1e-300)) worst = std::max(worst, (f + c * w.normalized()).norm());
+    worst = std::max(worst, std::abs(f.dot(contacts[i].normal.normalized())));
+  }
+  return std::max(worst, (a * r.delta_v - sum).norm());
+}
+
+}  // namespace dexcloth::coupling

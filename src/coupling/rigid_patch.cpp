@@ -1,0 +1,202 @@
+#include "coupling/rigid_patch.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace dexcloth::coupling {
+namespace {
+
+/// Union–find with path halving.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(int n) : parent(static_cast<std::size_t>(n)) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
+  int find(int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+bool joinable(const PatchVertex& a, const PatchVertex& b, const ClusterParams& p, double chord) {
+  const Vec3 d = a.x - b.x;
+  return d.norm() <= p.distance && (a.n - b.n).norm() <= chord &&
+         std::abs(d.dot(a.n)) + std::abs(d.dot(b.n)) <= p.offset;
+}
+
+/// Cross product of (b − a) and (c − a) in 2-D.
+double cross2(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+/// Convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
+std::vector<Vec2> convex_hull(std::vector<Vec2> pts) {
+  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (pts.size() < 3) return pts;
+  std::vector<Vec2> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (const Vec2& p : pts) {
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], p) <= 0) --k;
+    hull[k++] = p;
+  }
+  for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vertices,
+                                               const ClusterParams& params) {
+  const int n = static_cast<int>(vertices.size());
+  const double chord = 2.0 * std::sin(0.5 * params.normal_deg * M_PI / 180.0);
+  DisjointSets sets(n);
+  // Uniform grid with cell δw: candidates of a vertex lie in the 27 surrounding cells.
+  const auto cell_of = [&](const Vec3& x) {
+    return Eigen::Vector3i((x / params.distance).array().floor().cast<int>());
+  };
+  const auto key = [](const Eigen::Vector3i& c) {
+    return (static_cast<long long>(c.x()) * 73856093LL) ^ (static_cast<long long>(c.y()) * 19349663LL) ^
+           (static_cast<long long>(c.z()) * 83492791LL);
+  };
+  std::unordered_map<long long, std::vector<int>> grid;
+  for (int i = 0; i < n; ++i) grid[key(cell_of(vertices[i].x))].push_back(i);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3i c = cell_of(vertices[i].x);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == grid.end()) continue;
+          for (int j : it->second)
+            if (j > i && joinable(vertices[i], vertices[j], params, chord)) sets.join(i, j);
+        }
+  }
+  // Collect clusters in order of their smallest member.
+  std::vector<std::vector<int>> clusters;
+  std::vector<int> slot(static_cast<std::size_t>(n), -1);
+  for (int i = 0; i < n; ++i) {
+    const int root = sets.find(i);
+    if (slot[root] < 0) {
+      slot[root] = static_cast<int>(clusters.size());
+      clusters.emplace_back();
+    }
+    clusters[slot[root]].push_back(i);
+  }
+  return clusters;
+}
+
+Rectangle2 min_area_rectangle(std::span<const Vec2> points) {
+  Rectangle2 best;
+  if (points.empty()) return best;
+  const std::vector<Vec2> hull = convex_hull({points.begin(), points.end()});
+  double best_area = std::numeric_limits<double>::infinity();
+  // Try each hull edge direction (the optimal rectangle has a side on a hull edge); with fewer
+  // than two distinct points, any axis will do.
+  std::vector<Vec2> axes;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+    if (e.norm() > 0) axes.push_back(e.normalized());
+  }
+  if (axes.empty()) axes.push_back(Vec2::UnitX());
+  for (const Vec2& u : axes) {
+    const Vec2 v(-u.y(), u.x());
+    double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
+    for (const Vec2& p : hull) {
+      umin = std::min(umin, p.dot(u));
+      umax = std::max(umax, p.dot(u));
+      vmin = std::min(vmin, p.dot(v));
+      vmax = std::max(vmax, p.dot(v));
+    }
+    const double area = (umax - umin) * (vmax - vmin);
+    if (area < best_area - 1e-18) {
+      best_area = area;
+      best.axis = u;
+      best.extent = Vec2(umax - umin, vmax - vmin);
+      best.center = 0.5 * (umin + umax) * u + 0.5 * (vmin + vmax) * v;
+    }
+  }
+  return best;
+}
+
+RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const int> cluster,
+                       double thickness, double min_size) {
+  RigidPatch patch;
+  patch.vertices.assign(cluster.begin(), cluster.end());
+  // Mass, centre of mass, momentum.
+  Vec3 com = Vec3::Zero(), momentum = Vec3::Zero(), mean_normal = Vec3::Zero();
+  for (int i : cluster) {
+    const PatchVertex& pv = vertices[i];
+    patch.mass += pv.mass;
+    com += pv.mass * pv.x;
+    momentum += pv.mass * pv.v;
+    mean_normal += pv.n;
+  }
+  com /= patch.mass;
+  const Vec3 v_com = momentum / patch.mass;
+
+  // Plane fit: normal = direction of least spread, oriented like the vertex normals.
+  Mat3 cov = Mat3::Zero();
+  for (int i : cluster) {
+    const Vec3 r = vertices[i].x - com;
+    cov += r * r.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+  Vec3 n = cluster.size() >= 3 ? Vec3(eig.eigenvectors().col(0)) : mean_normal.normalized();
+  if (n.dot(mean_normal) < 0) n = -n;
+  // In-plane basis, then the minimum-area rectangle of the projected vertices.
+  Vec3 e1 = n.unitOrthogonal();
+  Vec3 e2 = n.cross(e1);
+  std::vector<Vec2> projected;
+  projected.reserve(cluster.size());
+  for (int i : cluster) {
+    const Vec3 r = vertices[i].x - com;
+    projected.emplace_back(r.dot(e1), r.dot(e2));
+  }
+  const Rectangle2 rect = min_area_rectangle(projected);
+  const Vec3 u = rect.axis.x() * e1 + rect.axis.y() * e2;
+  patch.R.col(0) = u;
+  patch.R.col(1) = n.cross(u);
+  patch.R.col(2) = n;
+  patch.center = com + rect.center.x() * e1 + rect.center.y() * e2;
+  patch.size = Vec3(std::max(rect.extent.x(), min_size), std::max(rect.extent.y(), min_size),
+                    thickness);
+
+  // Angular velocity from the angular momentum about the centre of mass: ω = I⁻¹ L.
+  Vec3 L = Vec3::Zero();
+  Mat3 I = Mat3::Zero();
+  for (int i : cluster) {
+    const PatchVertex& pv = vertices[i];
+    const Vec3 r = pv.x - com;
+    L += pv.mass * r.cross(pv.v - v_com);
+    I += pv.mass * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> inertia(I);
+  const double cutoff = 1e-12 * std::max(inertia.eigenvalues().maxCoeff(), 1e-300);
+  Vec3 omega = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double lambda = inertia.eigenvalues()(k);
+    if (lambda > cutoff) {
+      const Vec3 axis = inertia.eigenvectors().col(k);
+      omega += axis * (axis.dot(L) / lambda);
+    }
+  }
+  patch.angular_velocity = omega;
+  patch.linear_velocity = v_com + omega.cross(patch.center - com);
+  return patch;
+}
+
+}  // namespace dexcloth::coupling

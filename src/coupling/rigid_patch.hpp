@@ -1,0 +1,59 @@
+#pragma once
+/// Rigid cloth patches (paper §5): thin boxes approximating the cloth under the hand, rebuilt every
+/// step from the vertices in contact with rigid bodies (Vr), so the rigid simulator sees the cloth.
+#include <span>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace dexcloth::coupling {
+
+/// Clustering thresholds (paper eqs. 9–11).
+struct ClusterParams {
+  double distance{0.040};    ///< δw: ‖xi − xj‖ ≤ δw [m]
+  double normal_deg{20.0};   ///< δn: angle between ni and nj ≤ δn [deg] (‖ni − nj‖ ≤ 2 sin(δn/2))
+  double offset{0.003};      ///< δd: |(xi − xj)·ni| + |(xi − xj)·nj| ≤ δd [m]
+};
+
+/// A cloth vertex offered to the patch builder.
+struct PatchVertex {
+  Vec3 x{Vec3::Zero()};        ///< position [m]
+  Vec3 v{Vec3::Zero()};        ///< velocity [m/s]
+  Vec3 n{Vec3::UnitZ()};       ///< unit surface normal
+  double mass{};               ///< [kg]
+};
+
+/// One rigid cloth patch: a box of size (x, y, thickness) in its frame R = [e_u e_v n].
+struct RigidPatch {
+  Vec3 center{Vec3::Zero()};       ///< box centre, on the fitted plane [m]
+  Mat3 R{Mat3::Identity()};        ///< columns: rectangle axes u, v and the plane normal
+  Vec3 size{Vec3::Zero()};         ///< full extents along u, v, n [m]
+  double mass{};                   ///< sum of the vertex masses [kg]
+  Vec3 linear_velocity{Vec3::Zero()};   ///< velocity of the box centre [m/s]
+  Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
+  std::vector<int> vertices;       ///< indices into the builder's input
+};
+
+/// Groups vertices into clusters: i and j are joined (transitively) when all three paper
+/// conditions hold. Returns the clusters as lists of input indices, each sorted, ordered by their
+/// first index. Uses a uniform grid of cell δw, so it is near-linear in the vertex count.
+std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vertices,
+                                               const ClusterParams& params);
+
+/// Fits a patch to a cluster: least-squares plane, minimum-area rectangle of the vertices projected
+/// on it (rotating calipers on the convex hull), each side at least `min_size`, thickness
+/// `thickness`, summed mass, linear velocity from the momentum, angular velocity from the angular
+/// momentum about the centre of mass (ω = I⁻¹L, pseudo-inverse for collinear clusters).
+RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const int> cluster,
+                       double thickness, double min_size);
+
+/// Minimum-area enclosing rectangle of 2-D points: its centre, unit axis u (v = u rotated by 90°)
+/// and full extents. Exposed for tests.
+struct Rectangle2 {
+  Vec2 center{Vec2::Zero()};
+  Vec2 axis{Vec2::UnitX()};
+  Vec2 extent{Vec2::Zero()};
+};
+Rectangle2 min_area_rectangle(std::span<const Vec2> points);
+
+}  // namespace dexcloth::coupling

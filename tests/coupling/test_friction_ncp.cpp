@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "coupling/friction_ncp.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::coupling;
+
+namespace {
+
+constexpr double kMass = 1e-3;  // [kg] a cloth vertex
+constexpr double kH = 5e-3;      // [s]
+constexpr double kA = kMass / kH;
+
+FrictionContact contact(Vec3 n, double fn, double mu, Vec3 vr) { return {n, fn, mu, vr}; }
+
+/// The conditions of paper eqs. (1)–(2) to 1e-9 relative, and sliding forces opposing the next
+/// relative velocity.
+void expect_valid(const std::vector<FrictionContact>& c, const FrictionResult& r) {
+  double scale = 0.0;
+  for (const auto& ci : c) scale = std::max({scale, ci.mu * ci.normal_force, kA * ci.relative_velocity.norm()});
+  EXPECT_TRUE(r.ok);
+  EXPECT_LE(friction_violation(c, kMass, kH, r), 1e-9 * scale);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const Vec3 n = c[i].normal.normalized();
+    const Vec3 w = (Mat3::Identity() - n * n.transpose()) * (c[i].relative_velocity + r.delta_v);
+    EXPECT_LE(r.force[i].dot(w), 1e-12 * scale) << "contact " << i << " pushes along its sliding";
+  }
+}
+
+}  // namespace
+
+TEST(FrictionNcp, OneContactSticksWhenTheConeCanStopIt) {
+  // a‖v‖ = 0.2·0.01 = 0.002 N < μ fN = 0.005 N: static, fT = −a v_t, next velocity zero.
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, Vec3(0.01, 0.0, -0.3))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_TRUE(r.sticking[0]);
+  EXPECT_NEAR(r.force[0].x(), -0.002, 1e-15);
+  EXPECT_NEAR(r.delta_v.x(), -0.01, 1e-15);
+  EXPECT_EQ(r.delta_v.z(), 0.0);  // friction never touches the normal velocity
+}
+
+TEST(FrictionNcp, OneContactSlidesOnTheConeBoundary) {
+  const Vec3 v(0.1, 0.05, 0.0);  // a‖v‖ = 0.0224 N > 0.005 N
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, v)};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_FALSE(r.sticking[0]);
+  EXPECT_NEAR((r.force[0] + 0.005 * v.normalized()).norm(), 0.0, 1e-15);
+}
+
+TEST(FrictionNcp, PinchBothStaticWhenFingersMoveTogether) {
+  // Cloth between two fingers moving together (same tangential velocity): SS.
+  const Vec3 v(0.01, 0.02, 0.0);
+  const std::vector c{contact(Vec3::UnitZ(), 0.02, 0.5, v + Vec3(0, 0, 0.1)),
+                      contact(-Vec3::UnitZ(), 0.01, 0.5, v - Vec3(0, 0, 0.1))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_TRUE(r.sticking[0] && r.sticking[1]);
+  EXPECT_NEAR((r.delta_v + v).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((r.force[0] + r.force[1] + kA * v).norm(), 0.0, 1e-15);
+}
+
+TEST(FrictionNcp, StaticDynamicHandComputed) {
+  // c = 0.005 N each, a = 0.2. Static at 1: Δv = −0.01, contact 2 slides at +0.02 → fT2 = −0.005,
+  // remainder fT1 = a Δv − fT2 = −0.002 + 0.005 = 0.003 ≤ 0.005: valid (SD).
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, Vec3(0.01, 0, 0)),
+                      contact(-Vec3::UnitZ(), 0.01, 0.5, Vec3(0.03, 0, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_TRUE(r.sticking[0]);
+  EXPECT_FALSE(r.sticking[1]);
+  EXPECT_NEAR(r.force[0].x(), 0.003, 1e-15);
+  EXPECT_NEAR(r.force[1].x(), -0.005, 1e-15);
+}
+
+TEST(FrictionNcp, DynamicStaticHandComputed) {
+  // The mirror image: the second contact has the larger capacity and sticks (DS).
+  const std::vector c{contact(Vec3::UnitZ(), 0.004, 0.5, Vec3(0.03, 0, 0)),
+                      contact(-Vec3::UnitZ(), 0.02, 0.5, Vec3(0.01, 0, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_FALSE(r.sticking[0]);
+  EXPECT_TRUE(r.sticking[1]);
+  EXPECT_NEAR(r.force[0].x(), -0.002, 1e-15);                // −μ fN1
+  EXPECT_NEAR(r.force[1].x(), -0.002 + 0.002, 1e-15);        // a·(−0.01) − fT1
+}
+
+TEST(FrictionNcp, BothDynamicWhenNeitherCanHold) {
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, Vec3(0.1, 0, 0)),
+                      contact(-Vec3::UnitZ(), 0.01, 0.5, Vec3(0, 0.1, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_EQ(r.which, FrictionCase::all_dynamic);
+  EXPECT_NEAR(r.force[0].norm(), 0.005, 1e-15);
+  EXPECT_NEAR(r.force[1].norm(), 0.005, 1e-15);
+}
+
+TEST(FrictionNcp, ThreeLayersMixedCase) {
+  // M = 3 with parallel planes: one sticks, two slide.
+  const std::vector c{contact(Vec3::UnitZ(), 0.05, 0.6, Vec3(0.002, 0.001, 0)),
+                      contact(-Vec3::UnitZ(), 0.01, 0.3, Vec3(0.05, -0.02, 0)),
+                      contact(Vec3::UnitZ(), 0.01, 0.3, Vec3(-0.04, 0.03, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_TRUE(r.sticking[0]);
+  EXPECT_FALSE(r.sticking[1]);
+  EXPECT_FALSE(r.sticking[2]);
+}
+
+TEST(FrictionNcp, NonParallelPlanesGeneralSolver) {
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, Vec3(0.05, 0.02, 0.01)),
+                      contact(Vec3::UnitX(), 0.02, 0.4, Vec3(0.01, -0.03, 0.02))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  EXPECT_EQ(r.which, FrictionCase::general);
+  expect_valid(c, r);
+}
+
+TEST(FrictionNcp, NoCapacityNoForce) {
+  const std::vector c{contact(Vec3::UnitZ(), 0.0, 0.5, Vec3(0.05, 0, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  EXPECT_EQ(r.force[0], Vec3::Zero());
+  EXPECT_EQ(r.delta_v, Vec3::Zero());
+}
+
+TEST(FrictionNcp, RandomCasesSatisfyConditionsAndAgreeWithGeneralSolver) {
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.0, 1.0);
+  int counts[4] = {0, 0, 0, 0};
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int m = 1 + trial % 4;
+    std::vector<FrictionContact> c;
+    for (int i = 0; i < m; ++i)
+      c.push_back(contact((i % 2 ? -1.0 : 1.0) * Vec3::UnitZ(), 0.02 * pos(rng), pos(rng),
+                          0.05 * Vec3(u(rng), u(rng), u(rng))));
+    const FrictionResult r = solve_friction(c, kMass, kH);
+    expect_valid(c, r);
+    ++counts[static_cast<int>(r.which)];
+    // Tilting one normal by 1e-3 rad forces the general solver; its Δv must agree to O(tilt).
+    std::vector<FrictionContact> tilted = c;
+    tilted[0].normal = Vec3(1e-3, 0.0, 1.0).normalized();
+    if (m > 1) {
+      const FrictionResult g = solve_friction(tilted, kMass, kH);
+      EXPECT_EQ(g.which, FrictionCase::general);
+      EXPECT_LE((g.delta_v - r.delta_v).norm(), 2e-3 * 0.1 + 1e-12);
+    }
+  }
+  // The sample exercises both the static and the sliding cases.
+  EXPECT_GT(counts[static_cast<int>(FrictionCase::static_at)], 100);
+  EXPECT_GT(counts[static_cast<int>(FrictionCase::all_dynamic)], 100);
+}

@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "coupling/rigid_patch.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::coupling;
+
+namespace {
+
+/// A flat 5×4 lattice of vertices with spacing 5 mm, centred at `c`, normal +z, mass 1 g each.
+std::vector<PatchVertex> lattice(const Vec3& c) {
+  std::vector<PatchVertex> out;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j) out.push_back({c + Vec3(0.005 * i, 0.005 * j, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
+  return out;
+}
+
+}  // namespace
+
+TEST(RigidPatch, ClustersSplitByDistanceNormalAndOffset) {
+  std::vector<PatchVertex> v = lattice(Vec3::Zero());
+  const auto far = lattice(Vec3(0.2, 0, 0));                 // 0.2 m away: beyond δw
+  v.insert(v.end(), far.begin(), far.end());
+  v.push_back({Vec3(0.005, 0.005, 0.0), Vec3::Zero(), Vec3(std::sin(0.5236), 0, std::cos(0.5236)), 1e-3});  // 30° normal
+  v.push_back({Vec3(0.0, 0.0, 0.005), Vec3::Zero(), Vec3::UnitZ(), 1e-3});  // 5 mm above: offset > δd
+  const auto clusters = cluster_vertices(v, ClusterParams{});
+  ASSERT_EQ(clusters.size(), 4u);
+  EXPECT_EQ(clusters[0].size(), 20u);
+  EXPECT_EQ(clusters[1].size(), 20u);
+  EXPECT_EQ(clusters[2], std::vector<int>{40});
+  EXPECT_EQ(clusters[3], std::vector<int>{41});
+}
+
+TEST(RigidPatch, ClusteringIsTransitive) {
+  // A line of vertices 30 mm apart: neighbours join, the ends (90 mm apart) join through them.
+  std::vector<PatchVertex> v;
+  for (int i = 0; i < 4; ++i) v.push_back({Vec3(0.03 * i, 0, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
+  EXPECT_EQ(cluster_vertices(v, ClusterParams{}).size(), 1u);
+  ClusterParams tight;
+  tight.distance = 0.02;
+  EXPECT_EQ(cluster_vertices(v, tight).size(), 4u);
+}
+
+TEST(RigidPatch, MinimumAreaRectangleOfARotatedRectangle) {
+  const double angle = 0.4;
+  const Vec2 u(std::cos(angle), std::sin(angle)), w(-u.y(), u.x());
+  std::vector<Vec2> pts;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> a(-1.0, 1.0);
+  for (int sx : {-1, 1})
+    for (int sy : {-1, 1}) pts.push_back(Vec2(0.1, 0.2) + sx * 0.02 * u + sy * 0.01 * w);
+  for (int k = 0; k < 50; ++k) pts.push_back(Vec2(0.1, 0.2) + 0.02 * a(rng) * u + 0.01 * a(rng) * w);
+  const Rectangle2 r = min_area_rectangle(pts);
+  EXPECT_NEAR(r.extent.x() * r.extent.y(), 0.04 * 0.02, 1e-15);
+  EXPECT_NEAR(std::abs(r.axis.dot(u)) + std::abs(r.axis.dot(w)), 1.0, 1e-12);  // aligned with a side
+  EXPECT_NEAR((r.center - Vec2(0.1, 0.2)).norm(), 0.0, 1e-14);
+}
+
+TEST(RigidPatch, RotatingRigidClusterGivesItsExactVelocities) {
+  // A tilted flat cluster moving rigidly: v_i = v0 + ω × (x_i − c).
+  const Mat3 R = Eigen::AngleAxisd(0.3, Vec3(1, 2, 0.5).normalized()).toRotationMatrix();
+  const Vec3 c(0.1, -0.2, 0.5), v0(0.3, -0.1, 0.2), omega(1.5, -0.7, 2.0);
+  std::vector<PatchVertex> v;
+  std::vector<int> cluster;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 x = c + R * Vec3(0.004 * i - 0.01, 0.004 * j - 0.004, 0.0);
+      v.push_back({x, v0 + omega.cross(x - c), R.col(2), 1e-3 * (1 + (i + j) % 3)});
+      cluster.push_back(static_cast<int>(v.size()) - 1);
+    }
+  const RigidPatch p = build_patch(v, cluster, 1e-3, 1e-3);
+  double mass = 0.0;
+  for (const auto& pv : v) mass += pv.mass;
+  EXPECT_NEAR(p.mass, mass, 1e-18);
+  EXPECT_NEAR((p.angular_velocity - omega).norm(), 0.0, 1e-10);
+  // The box centre's velocity is the rigid velocity field at that point.
+  EXPECT_NEAR((p.linear_velocity - (v0 + omega.cross(p.center - c))).norm(), 0.0, 1e-10);
+  EXPECT_NEAR(std::abs(p.R.col(2).dot(R.col(2))), 1.0, 1e-12);     // plane normal
+  EXPECT_GT(p.R.col(2).dot(R.col(2)), 0.0);                         // oriented like the vertices
+  EXPECT_NEAR(p.size.x() * p.size.y(), 0.02 * 0.008, 1e-12);       // 20 mm × 8 mm rectangle
+  EXPECT_DOUBLE_EQ(p.size.z(), 1e-3);
+  EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
+  EXPECT_GT(p.R.determinant(), 0.0);
+}
+
+TEST(RigidPatch, SingleVertexPatchHasMinimumSizeAndItsVelocity) {
+  const std::vector<PatchVertex> v{{Vec3(0, 0, 1), Vec3(0.1, 0, 0), Vec3::UnitZ(), 2e-3}};
+  const std::vector<int> cluster{0};
+  const RigidPatch p = build_patch(v, cluster, 1e-3, 5e-3);
+  EXPECT_EQ(p.size, Vec3(5e-3, 5e-3, 1e-3));
+  EXPECT_EQ(p.linear_velocity, Vec3(0.1, 0, 0));
+  EXPECT_EQ(p.angular_velocity, Vec3::Zero());
+  EXPECT_EQ(p.center, Vec3(0, 0, 1));
+}
