@@ -106,6 +106,7 @@ CompiledScene compile_scene(const SceneSpec& spec) {
         errors.add(spec.file, pointer + "/mesh", err.message);
       continue;
     }
+    body.x_rest = mesh.x;
     for (std::size_t k = 0; k < cs.handles.size(); ++k)
       body.handles.push_back(compile_handle(cs.handles[k], mesh,
                                             pointer + "/handles/" + std::to_string(k), errors,
@@ -120,7 +121,7 @@ CompiledScene compile_scene(const SceneSpec& spec) {
     CompiledProbe probe{ps.name, -1, -1};
     for (std::size_t c = 0; c < out.model.cloths.size(); ++c) {
       if (out.model.cloths[c].name != ps.cloth) continue;
-      const Points& x = out.model.cloths[c].model.x_rest;
+      const Points& x = out.model.cloths[c].x_rest;
       Eigen::Index best = 0;
       (x.rowwise() - ps.near.transpose()).rowwise().squaredNorm().minCoeff(&best);
       probe.cloth = static_cast<int>(c);
