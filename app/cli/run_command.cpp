@@ -72,7 +72,7 @@ json make_summary(const scene::SceneSpec& spec, const scene::CompiledScene& comp
   s["steps"] = data.step;
   long vertices = 0, triangles = 0;
   for (const auto& body : compiled.model.cloths) {
-    vertices += body.model.x_rest.rows();
+    vertices += body.x_rest.rows();
     triangles += body.model.faces.rows();
   }
   s["cloth"] = {{"vertices", vertices}, {"triangles", triangles}};

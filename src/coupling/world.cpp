@@ -6,7 +6,7 @@ WorldData make_data(const WorldModel& model) {
   WorldData data;
   data.cloths.reserve(model.cloths.size());
   for (const ClothBody& body : model.cloths)
-    data.cloths.push_back(cloth::make_state(body.model, body.model.x_rest));
+    data.cloths.push_back(cloth::make_state(body.model, body.x_rest));
   return data;
 }
 

@@ -23,6 +23,7 @@ struct Handle {
 struct ClothBody {
   std::string name;
   cloth::ClothModel model;
+  Points x_rest;  ///< |V|×3 rest world positions [m] (the initial state)
   std::vector<Handle> handles;
 };
 

@@ -1,0 +1,42 @@
+#include "cli_runner.hpp"
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace dexcloth::test {
+
+CliResult run_cli(const std::string& args) {
+  const std::string cmd = std::string("\"") + DEXCLOTH_EXE + "\" " + args + " 2>&1";
+  CliResult r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) throw std::runtime_error("popen failed: " + cmd);
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) r.output += buf.data();
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string test = info ? std::string(info->test_suite_name()) + "_" + info->name() : "t";
+  auto dir = std::filesystem::temp_directory_path() / ("dexcloth_" + test + "_" + name);
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot read " + path.string());
+  return nlohmann::json::parse(f);
+}
+
+std::filesystem::path source_dir() { return DEXCLOTH_SOURCE_DIR; }
+
+}  // namespace dexcloth::test

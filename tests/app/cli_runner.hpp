@@ -1,0 +1,27 @@
+#pragma once
+/// Runs the dexcloth executable in tests and captures its exit code and output.
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace dexcloth::test {
+
+struct CliResult {
+  int exit_code{-1};
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs `dexcloth <args>` (args already shell-quoted where needed).
+CliResult run_cli(const std::string& args);
+
+/// A fresh, empty folder under the system temp dir, unique to this test.
+std::filesystem::path fresh_dir(const std::string& name);
+
+/// Reads a JSON file.
+nlohmann::json read_json(const std::filesystem::path& path);
+
+/// Repository root (for scenes/ and tests data).
+std::filesystem::path source_dir();
+
+}  // namespace dexcloth::test
