@@ -1,0 +1,143 @@
+#include "cloth/collision/bvh.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "cloth/collision/mesh_topology.hpp"
+#include "core/assert.hpp"
+
+namespace dexcloth::collision {
+
+void Bvh::face_box(Node& node, const Triangles& faces, const Points& x0, const Points& x1,
+                   double margin) const {
+  for (int d = 0; d < 3; ++d) {
+    double lo = x0(faces(node.face, 0), d), hi = lo;
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces(node.face, k);
+      lo = std::min({lo, x0(v, d), x1(v, d)});
+      hi = std::max({hi, x0(v, d), x1(v, d)});
+    }
+    node.lo[d] = lo - margin;
+    node.hi[d] = hi + margin;
+  }
+}
+
+int Bvh::build_range(int* begin, int* end, const std::vector<Vec3>& centroids) {
+  const int index = static_cast<int>(m_nodes.size());
+  m_nodes.emplace_back();
+  if (end - begin == 1) {
+    m_nodes[static_cast<std::size_t>(index)].face = *begin;
+    return index;
+  }
+  // Split at the median along the longest axis of the centroids' bounds.
+  Vec3 lo = centroids[static_cast<std::size_t>(*begin)], hi = lo;
+  for (int* it = begin; it != end; ++it) {
+    lo = lo.cwiseMin(centroids[static_cast<std::size_t>(*it)]);
+    hi = hi.cwiseMax(centroids[static_cast<std::size_t>(*it)]);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  int* mid = begin + (end - begin) / 2;
+  std::nth_element(begin, mid, end, [&](int f, int g) {
+    return centroids[static_cast<std::size_t>(f)][axis] < centroids[static_cast<std::size_t>(g)][axis];
+  });
+  build_range(begin, mid, centroids);
+  const int right = build_range(mid, end, centroids);
+  m_nodes[static_cast<std::size_t>(index)].right = right;
+  return index;
+}
+
+void Bvh::build(const Triangles& faces, const Points& x0, const Points& x1, double margin) {
+  m_num_faces = static_cast<int>(faces.rows());
+  m_nodes.clear();
+  if (m_num_faces == 0) return;
+  m_nodes.reserve(static_cast<std::size_t>(2 * m_num_faces - 1));
+  std::vector<Vec3> centroids(static_cast<std::size_t>(m_num_faces));
+  for (int f = 0; f < m_num_faces; ++f) {
+    centroids[static_cast<std::size_t>(f)] =
+        (x0.row(faces(f, 0)) + x0.row(faces(f, 1)) + x0.row(faces(f, 2))).transpose() / 3.0;
+  }
+  std::vector<int> order(static_cast<std::size_t>(m_num_faces));
+  std::iota(order.begin(), order.end(), 0);
+  build_range(order.data(), order.data() + order.size(), centroids);
+  refit(faces, x0, x1, margin);
+}
+
+void Bvh::refit(const Triangles& faces, const Points& x0, const Points& x1, double margin) {
+  DEXCLOTH_DEMAND(faces.rows() == m_num_faces);
+  // Children come after their parent, so a reverse sweep sees children first.
+  for (std::size_t i = m_nodes.size(); i-- > 0;) {
+    Node& n = m_nodes[i];
+    if (n.face >= 0) {
+      face_box(n, faces, x0, x1, margin);
+      continue;
+    }
+    const Node& l = m_nodes[i + 1];
+    const Node& r = m_nodes[static_cast<std::size_t>(n.right)];
+    for (int d = 0; d < 3; ++d) {
+      n.lo[d] = std::min(l.lo[d], r.lo[d]);
+      n.hi[d] = std::max(l.hi[d], r.hi[d]);
+    }
+  }
+}
+
+/// Recursive pairwise descent over one or two trees (no allocation beyond `out`).
+struct BvhTraversal {
+  const std::vector<Bvh::Node>& na;
+  const std::vector<Bvh::Node>& nb;
+  const Triangles* faces;  // set for a self query that skips adjacent faces
+  std::vector<FacePair>& out;
+
+  static bool overlap(const Bvh::Node& p, const Bvh::Node& q) {
+    return p.lo[0] <= q.hi[0] && q.lo[0] <= p.hi[0] && p.lo[1] <= q.hi[1] && q.lo[1] <= p.hi[1] &&
+           p.lo[2] <= q.hi[2] && q.lo[2] <= p.hi[2];
+  }
+  static double extent(const Bvh::Node& n) {
+    return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]);
+  }
+
+  // Pairs between subtree i of `na` and subtree j of `nb`.
+  void pair(int i, int j) {
+    const Bvh::Node& p = na[static_cast<std::size_t>(i)];
+    const Bvh::Node& q = nb[static_cast<std::size_t>(j)];
+    if (!overlap(p, q)) return;
+    const bool leaf_p = p.face >= 0, leaf_q = q.face >= 0;
+    if (leaf_p && leaf_q) {
+      if (faces != nullptr && faces_adjacent(*faces, p.face, q.face)) return;
+      out.push_back({p.face, q.face});
+      return;
+    }
+    // Descend the bigger (or the only inner) node.
+    if (leaf_q || (!leaf_p && extent(p) >= extent(q))) {
+      pair(i + 1, j);
+      pair(p.right, j);
+    } else {
+      pair(i, j + 1);
+      pair(i, q.right);
+    }
+  }
+
+  // Unordered pairs within subtree i of a single tree.
+  void self(int i) {
+    const Bvh::Node& n = na[static_cast<std::size_t>(i)];
+    if (n.face >= 0) return;
+    self(i + 1);
+    self(n.right);
+    pair(i + 1, n.right);
+  }
+};
+
+void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out) {
+  if (a.empty() || b.empty()) return;
+  BvhTraversal t{a.m_nodes, b.m_nodes, nullptr, out};
+  t.pair(0, 0);
+}
+
+void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
+                            std::vector<FacePair>& out) {
+  if (bvh.empty()) return;
+  BvhTraversal t{bvh.m_nodes, bvh.m_nodes, skip_adjacent ? &faces : nullptr, out};
+  t.self(0);
+}
+
+}  // namespace dexcloth::collision

@@ -1,0 +1,60 @@
+#pragma once
+/// Broad phase of collision handling: per-mesh BVHs and topology kept between steps, and the
+/// primitive pairs (vertex–face, edge–edge) whose face boxes overlap, each generated once.
+#include <vector>
+
+#include "cloth/collision/bvh.hpp"
+#include "cloth/collision/collision_mesh.hpp"
+#include "cloth/collision/mesh_topology.hpp"
+
+namespace dexcloth::collision {
+
+/// Vertex `vertex` of mesh `vertex_mesh` against face `face` of mesh `face_mesh`.
+struct VertexFacePair {
+  int vertex_mesh{};
+  int vertex{};
+  int face_mesh{};
+  int face{};
+};
+
+/// Edge `edge_a` of mesh `mesh_a` against edge `edge_b` of mesh `mesh_b` (indices into
+/// `MeshTopology::edges`).
+struct EdgeEdgePair {
+  int mesh_a{};
+  int edge_a{};
+  int mesh_b{};
+  int edge_b{};
+};
+
+/// BVHs, topology and candidate primitive pairs of a collision scene. Keep one per simulation:
+/// trees are built on first use (and when a mesh's vertex or face count changes) and refit after.
+class CollisionCandidates {
+ public:
+  /// Refits every mesh's tree on the boxes of x0 ∪ x1 (`swept`) or of x0 alone, inflated by
+  /// `margin` [m] (two primitives within 2·margin are found), then collects every vertex–face and
+  /// edge–edge pair whose faces' boxes overlap and whose own boxes overlap: within each cloth
+  /// mesh, between cloth meshes, between cloth and obstacles (never obstacle–obstacle). Pairs
+  /// sharing a vertex are left out. Each pair appears once.
+  void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
+  /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
+  void reset() { m_topology.clear(); }
+
+  /// Vertex–face pairs found by the last `update`.
+  const std::vector<VertexFacePair>& vertex_face() const { return m_vf; }
+  /// Edge–edge pairs found by the last `update`.
+  const std::vector<EdgeEdgePair>& edge_edge() const { return m_ee; }
+  /// Topology (edges, ownership) of mesh `m` as of the last `update`.
+  const MeshTopology& topology(int m) const { return m_topology[static_cast<std::size_t>(m)]; }
+
+ private:
+  void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb, bool swept,
+               double margin);
+
+  std::vector<MeshTopology> m_topology;
+  std::vector<Bvh> m_bvh;
+  std::vector<FacePair> m_face_pairs;
+  std::vector<VertexFacePair> m_vf;
+  std::vector<EdgeEdgePair> m_ee;
+};
+
+}  // namespace dexcloth::collision

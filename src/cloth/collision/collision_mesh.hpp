@@ -1,0 +1,45 @@
+#pragma once
+/// The plain-array mesh every collision routine works on (cloth or obstacle, one step's motion).
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace dexcloth::collision {
+
+/// One triangle mesh taking part in collision handling for a step.
+/// Velocities are implied: v = (x1 − x0)/h. Obstacles carry their prescribed motion x0 → x1.
+struct CollisionMesh {
+  Points x0;                         ///< |V|×3 positions at the start of the step [m]
+  Points x1;                         ///< |V|×3 candidate positions at the end of the step [m]
+                                     ///< (modified by responses)
+  Triangles faces;                   ///< |F|×3 vertex indices
+  Eigen::VectorXd mass;              ///< |V| vertex masses [kg] (ignored for obstacles)
+  std::vector<std::uint8_t> frozen;  ///< |V| 1 = position constrained: responses never move it
+                                     ///< (handles, the coupling's static-friction vertices);
+                                     ///< empty = none frozen
+  bool obstacle{false};              ///< infinitely heavy, never moved, no self-collision
+  double friction{0.5};              ///< Coulomb μ of this mesh's surface [-]
+};
+
+/// Checks the shapes of `mesh` (x0, x1, mass, frozen sizes, face indices in range, positive masses
+/// of cloth vertices); always on, since a wrong shape is a programmer error in the caller.
+void demand_valid(const CollisionMesh& mesh);
+
+/// True when responses must not move vertex `v`: obstacle meshes and frozen vertices.
+inline bool is_fixed(const CollisionMesh& mesh, int v) {
+  return mesh.obstacle || (!mesh.frozen.empty() && mesh.frozen[static_cast<std::size_t>(v)] != 0);
+}
+
+/// Inverse mass of vertex `v` [1/kg]; 0 for fixed vertices (infinite mass).
+inline double inverse_mass(const CollisionMesh& mesh, int v) {
+  return is_fixed(mesh, v) ? 0.0 : 1.0 / mesh.mass[v];
+}
+
+/// Friction coefficient of a contact between two surfaces: √(μa·μb) [-].
+inline double pair_friction(const CollisionMesh& a, const CollisionMesh& b) {
+  return std::sqrt(a.friction * b.friction);
+}
+
+}  // namespace dexcloth::collision

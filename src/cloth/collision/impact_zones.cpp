@@ -1,0 +1,282 @@
+#include "cloth/collision/impact_zones.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <Eigen/Eigenvalues>
+
+#include "cloth/collision/ccd.hpp"
+
+namespace dexcloth::collision {
+
+namespace {
+
+Vec3 x0_of(const CollisionMesh& m, int v) { return m.x0.row(v).transpose(); }
+Vec3 x1_of(const CollisionMesh& m, int v) { return m.x1.row(v).transpose(); }
+
+}  // namespace
+
+int ImpactZoneSolver::find_root(int gid) {
+  while (m_parent[static_cast<std::size_t>(gid)] != gid) {
+    int& p = m_parent[static_cast<std::size_t>(gid)];
+    p = m_parent[static_cast<std::size_t>(p)];  // path halving
+    gid = p;
+  }
+  return gid;
+}
+
+int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
+                                   const ImpactZoneOptions& options) {
+  m_view.assign(meshes.begin(), meshes.end());
+  m_candidates.update(m_view, true, options.ccd_tolerance);
+  const std::size_t before = m_impacts.size();
+
+  // Resolves corners, tests the pair unless every corner is fixed, records a hit.
+  auto test = [&](bool edge_edge, const std::array<int, 4>& mesh, const std::array<int, 4>& vertex) {
+    Impact impact;
+    bool movable = false;
+    Corners c0, c1;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
+      impact.corner[k] = {mesh[k], vertex[k], m_offset[static_cast<std::size_t>(mesh[k])] + vertex[k],
+                          inverse_mass(m, vertex[k])};
+      movable = movable || impact.corner[k].inv_mass > 0.0;
+      c0[k] = x0_of(m, vertex[k]);
+      c1[k] = x1_of(m, vertex[k]);
+    }
+    if (!movable) {
+      // Only fixed corners: nothing can respond, so say so (once, on the first round).
+      if (m_count_fixed) {
+        const bool hit = edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance).has_value()
+                                   : vertex_face_ccd(c0, c1, options.ccd_tolerance).has_value();
+        m_fixed_impacts += hit ? 1 : 0;
+      }
+      return;
+    }
+    const std::optional<CcdHit> hit = edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance)
+                                                : vertex_face_ccd(c0, c1, options.ccd_tolerance);
+    if (!hit) return;
+    impact.w = hit->w;
+    impact.normal = hit->normal;
+    impact.t = hit->t;
+    m_impacts.push_back(impact);
+  };
+
+  for (const VertexFacePair& p : m_candidates.vertex_face()) {
+    const CollisionMesh& fm = *meshes[static_cast<std::size_t>(p.face_mesh)];
+    test(false, {p.vertex_mesh, p.face_mesh, p.face_mesh, p.face_mesh},
+         {p.vertex, fm.faces(p.face, 0), fm.faces(p.face, 1), fm.faces(p.face, 2)});
+  }
+  for (const EdgeEdgePair& p : m_candidates.edge_edge()) {
+    const auto& ea = m_candidates.topology(p.mesh_a).edges[static_cast<std::size_t>(p.edge_a)];
+    const auto& eb = m_candidates.topology(p.mesh_b).edges[static_cast<std::size_t>(p.edge_b)];
+    test(true, {p.mesh_a, p.mesh_a, p.mesh_b, p.mesh_b}, {ea[0], ea[1], eb[0], eb[1]});
+  }
+  return static_cast<int>(m_impacts.size() - before);
+}
+
+bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
+                               const std::vector<int>& impacts, const ImpactZoneOptions& options) {
+  // Gauss–Seidel on the dual of min Σ m‖x − x̂‖²/2 s.t. c_j(x) = n·Σ w x − offset ≥ 0, λ ≥ 0.
+  const double tolerance = options.violation_tolerance * options.offset;
+  for (const int i : impacts) m_impacts[static_cast<std::size_t>(i)].lambda = 0.0;
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    double worst = 0.0;
+    for (const int i : impacts) {
+      Impact& im = m_impacts[static_cast<std::size_t>(i)];
+      double c = -options.offset, k_eff = 0.0;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const Corner& cr = im.corner[k];
+        const double w = im.w[static_cast<Eigen::Index>(k)];
+        c += w * im.normal.dot(x1_of(*meshes[static_cast<std::size_t>(cr.mesh)], cr.vertex));
+        k_eff += w * w * cr.inv_mass;
+      }
+      worst = std::max(worst, -c);
+      if (k_eff == 0.0) continue;
+      const double dl = std::max(-im.lambda, -c / k_eff);
+      if (dl == 0.0) continue;
+      im.lambda += dl;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const Corner& cr = im.corner[k];
+        if (cr.inv_mass == 0.0) continue;
+        meshes[static_cast<std::size_t>(cr.mesh)]->x1.row(cr.vertex) +=
+            (cr.inv_mass * im.w[static_cast<Eigen::Index>(k)] * dl * im.normal).transpose();
+      }
+    }
+    if (worst <= tolerance) return true;
+  }
+  return false;
+}
+
+void ImpactZoneSolver::move_rigidly(const std::vector<CollisionMesh*>& meshes,
+                                    const std::vector<int>& members) {
+  // Mass-weighted centre, linear and angular momentum of the zone's motion over the step.
+  auto locate = [&](int gid) {
+    const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), gid) - 1;
+    const int m = static_cast<int>(it - m_offset.begin());
+    return std::pair<CollisionMesh*, int>(meshes[static_cast<std::size_t>(m)], gid - *it);
+  };
+  double total = 0.0;
+  Vec3 c0 = Vec3::Zero(), d = Vec3::Zero();
+  for (const int g : members) {
+    const auto [m, v] = locate(g);
+    const double mass = m->mass[v];
+    total += mass;
+    c0 += mass * x0_of(*m, v);
+    d += mass * (x1_of(*m, v) - x0_of(*m, v));
+  }
+  c0 /= total;
+  d /= total;
+  Vec3 l = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();
+  for (const int g : members) {
+    const auto [m, v] = locate(g);
+    const double mass = m->mass[v];
+    const Vec3 r = x0_of(*m, v) - c0;
+    l += mass * r.cross(x1_of(*m, v) - x0_of(*m, v) - d);
+    inertia += mass * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+  }
+  // ω = I⁺ L (pseudo-inverse: a single vertex or a line of vertices has a singular I).
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia);
+  const double cutoff = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 1e-300);
+  Vec3 inv = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (eig.eigenvalues()[k] > cutoff) inv[k] = 1.0 / eig.eigenvalues()[k];
+  const Vec3 omega = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose() * l;
+  const double angle = omega.norm();
+  const Mat3 rotation =
+      angle > 0.0 ? Mat3(Eigen::AngleAxisd(angle, omega / angle)) : Mat3(Mat3::Identity());
+  for (const int g : members) {
+    const auto [m, v] = locate(g);
+    m->x1.row(v) = (c0 + d + rotation * (x0_of(*m, v) - c0)).transpose();
+  }
+}
+
+void ImpactZoneSolver::stay_at_start(const std::vector<CollisionMesh*>& meshes,
+                                     const std::vector<int>& members) {
+  for (const int g : members) {
+    const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), g) - 1;
+    CollisionMesh& m = *meshes[static_cast<std::size_t>(it - m_offset.begin())];
+    m.x1.row(g - *it) = m.x0.row(g - *it);
+  }
+}
+
+ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& meshes,
+                                           const ImpactZoneOptions& options) {
+  ImpactZoneReport report;
+  // Global vertex ids, singleton zones, every vertex starting at level 0.
+  m_offset.assign(meshes.size(), 0);
+  int total = 0;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    demand_valid(*meshes[m]);
+    m_offset[m] = total;
+    total += static_cast<int>(meshes[m]->x0.rows());
+  }
+  m_parent.resize(static_cast<std::size_t>(total));
+  for (int g = 0; g < total; ++g) m_parent[static_cast<std::size_t>(g)] = g;
+  m_level.assign(static_cast<std::size_t>(total), 0);
+  m_impacts.clear();
+  bool fixed_collisions = false;
+
+  for (int iter = 0;; ++iter) {
+    const std::size_t first_new = m_impacts.size();
+    m_count_fixed = iter == 0;
+    m_fixed_impacts = 0;
+    const int found = find_impacts(meshes, options);
+    if (m_fixed_impacts > 0) {
+      fixed_collisions = true;
+      report.warnings.push_back("impact zones: " + std::to_string(m_fixed_impacts) +
+                                " impacts between fixed vertices and obstacles cannot be resolved");
+    }
+    if (found == 0) {
+      report.converged = !fixed_collisions;
+      report.iterations = iter;
+      break;
+    }
+    if (iter == options.max_iterations) {
+      report.iterations = iter;
+      report.warnings.push_back("impact zones: " + std::to_string(found) +
+                                " impacts unresolved after " + std::to_string(iter) +
+                                " iterations");
+      m_impacts.resize(first_new);
+      break;
+    }
+    // Merge the new impacts' movable vertices into zones.
+    for (std::size_t i = first_new; i < m_impacts.size(); ++i) {
+      int root = -1;
+      for (const Corner& c : m_impacts[i].corner) {
+        if (c.inv_mass == 0.0) continue;
+        const int r = find_root(c.gid);
+        if (root < 0) root = r;
+        else if (r != root) m_parent[static_cast<std::size_t>(r)] = root;
+      }
+    }
+    // Group every impact by zone; respond in each zone that got a new impact.
+    m_by_root.clear();
+    for (std::size_t i = 0; i < m_impacts.size(); ++i) {
+      for (const Corner& c : m_impacts[i].corner) {
+        if (c.inv_mass == 0.0) continue;
+        m_by_root.emplace_back(find_root(c.gid), static_cast<int>(i));
+        break;
+      }
+    }
+    std::sort(m_by_root.begin(), m_by_root.end());
+    report.zones = 0;
+    for (std::size_t b = 0; b < m_by_root.size();) {
+      std::size_t e = b;
+      bool active = false;
+      m_zone_impacts.clear();
+      m_zone_members.clear();
+      for (; e < m_by_root.size() && m_by_root[e].first == m_by_root[b].first; ++e) {
+        const int i = m_by_root[e].second;
+        active = active || static_cast<std::size_t>(i) >= first_new;
+        m_zone_impacts.push_back(i);
+        for (const Corner& c : m_impacts[static_cast<std::size_t>(i)].corner)
+          if (c.inv_mass > 0.0) m_zone_members.push_back(c.gid);
+      }
+      b = e;
+      ++report.zones;
+      if (!active) continue;
+      std::sort(m_zone_members.begin(), m_zone_members.end());
+      m_zone_members.erase(std::unique(m_zone_members.begin(), m_zone_members.end()),
+                           m_zone_members.end());
+      std::uint8_t had = 0;
+      for (const int g : m_zone_members) had = std::max(had, m_level[static_cast<std::size_t>(g)]);
+      // Late rounds force the robust fallbacks.
+      std::uint8_t level = had;
+      if (2 * iter >= options.max_iterations) level = std::max<std::uint8_t>(level, 1);
+      if (4 * iter >= 3 * options.max_iterations) level = 2;
+
+      const std::string size = std::to_string(m_zone_members.size());
+      std::uint8_t next = 0;
+      if (level == 0) {
+        // Inelastic projection; rigid motion when it does not converge.
+        if (!project(meshes, m_zone_impacts, options)) {
+          move_rigidly(meshes, m_zone_members);
+          next = 1;
+          report.warnings.push_back("impact zones: projection of a zone of " + size +
+                                    " vertices did not converge; zone moved rigidly");
+        }
+      } else if (level == 1 && had == 0) {
+        move_rigidly(meshes, m_zone_members);
+        next = 1;
+        report.warnings.push_back("impact zones: zone of " + size + " vertices still colliding after " +
+                                  std::to_string(iter) + " rounds; zone moved rigidly");
+      } else {
+        // A rigid zone hit again (by neighbours or obstacles) keeps its start positions.
+        stay_at_start(meshes, m_zone_members);
+        next = 2;
+        report.warnings.push_back("impact zones: zone of " + size +
+                                  " vertices kept at its start-of-step positions");
+      }
+      if (next > 0) {
+        ++report.rigid_zones;
+        for (const int g : m_zone_members) m_level[static_cast<std::size_t>(g)] = next;
+      }
+    }
+    report.impacts = static_cast<int>(m_impacts.size());
+  }
+  report.impacts = static_cast<int>(m_impacts.size());
+  return report;
+}
+
+}  // namespace dexcloth::collision

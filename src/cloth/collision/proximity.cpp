@@ -1,0 +1,75 @@
+#include "cloth/collision/proximity.hpp"
+
+#include "cloth/collision/closest_points.hpp"
+
+namespace dexcloth::collision {
+
+namespace {
+
+Vec3 row(const CollisionMesh& m, int v) { return m.x0.row(v).transpose(); }
+
+// Unit normal from the gap, or from the geometry when the gap vanishes.
+Vec3 contact_normal(const Vec3& gap, const Vec3& geometric) {
+  if (gap.squaredNorm() > 1e-28) return gap.normalized();
+  if (geometric.squaredNorm() > 0.0) return geometric.normalized();
+  return Vec3::UnitZ();
+}
+
+}  // namespace
+
+void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
+                      CollisionCandidates& candidates, std::vector<Proximity>& out) {
+  out.clear();
+  // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness.
+  candidates.update(meshes, false, 0.5 * thickness);
+
+  // Vertex–face pairs.
+  for (const VertexFacePair& c : candidates.vertex_face()) {
+    const CollisionMesh& vm = *meshes[static_cast<std::size_t>(c.vertex_mesh)];
+    const CollisionMesh& fm = *meshes[static_cast<std::size_t>(c.face_mesh)];
+    const int a = fm.faces(c.face, 0), b = fm.faces(c.face, 1), cc = fm.faces(c.face, 2);
+    const Vec3 p = row(vm, c.vertex), xa = row(fm, a), xb = row(fm, b), xc = row(fm, cc);
+    const Vec3 bary = closest_point_triangle(p, xa, xb, xc);
+    const Vec3 gap = p - (bary[0] * xa + bary[1] * xb + bary[2] * xc);
+    const double dist = gap.norm();
+    if (dist >= thickness) continue;
+    Proximity prox;
+    prox.edge_edge = false;
+    prox.mesh = {c.vertex_mesh, c.face_mesh};
+    prox.corner = {c.vertex, a, b, cc};
+    prox.first = c.vertex;
+    prox.second = c.face;
+    prox.w = {1.0, -bary[0], -bary[1], -bary[2]};
+    prox.normal = contact_normal(gap, (xb - xa).cross(xc - xa));
+    prox.distance = dist;
+    out.push_back(prox);
+  }
+
+  // Edge–edge pairs.
+  for (const EdgeEdgePair& c : candidates.edge_edge()) {
+    const CollisionMesh& ma = *meshes[static_cast<std::size_t>(c.mesh_a)];
+    const CollisionMesh& mb = *meshes[static_cast<std::size_t>(c.mesh_b)];
+    const std::array<int, 2>& ea = candidates.topology(c.mesh_a).edges[static_cast<std::size_t>(c.edge_a)];
+    const std::array<int, 2>& eb = candidates.topology(c.mesh_b).edges[static_cast<std::size_t>(c.edge_b)];
+    const Vec3 p0 = row(ma, ea[0]), p1 = row(ma, ea[1]), q0 = row(mb, eb[0]), q1 = row(mb, eb[1]);
+    const Vec2 su = closest_points_segments(p0, p1, q0, q1);
+    // Closest points at an edge's end are a vertex–face pair's (closest on that face's
+    // boundary): keep edge–edge pairs for interior closest points only, so no pair counts twice.
+    if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) continue;
+    const Vec3 gap = (p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0));
+    const double dist = gap.norm();
+    if (dist >= thickness) continue;
+    Proximity prox;
+    prox.edge_edge = true;
+    prox.mesh = {c.mesh_a, c.mesh_b};
+    prox.corner = {ea[0], ea[1], eb[0], eb[1]};
+    prox.first = c.edge_a;
+    prox.second = c.edge_b;
+    prox.w = {1.0 - su[0], su[0], -(1.0 - su[1]), -su[1]};
+    prox.normal = contact_normal(gap, (p1 - p0).cross(q1 - q0));
+    prox.distance = dist;
+    out.push_back(prox);
+  }
+}
+
+}  // namespace dexcloth::collision
