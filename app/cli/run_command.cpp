@@ -8,9 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cloth/collision/intersection.hpp"
 #include "core/errors.hpp"
 #include "coupling/step.hpp"
 #include "progress.hpp"
+#include "recorder.hpp"
 #include "scene/compile.hpp"
 #include "scene/load.hpp"
 
@@ -40,19 +42,33 @@ bool load_and_compile(const std::string& path, std::vector<std::string> override
   }
 }
 
-/// Per-probe trajectories [[t, x, y, z], ...].
-struct ProbeLog {
+/// What the run records at every frame: probe trajectories [[t, x, y, z], ...] and maxima.
+struct FrameLog {
   std::vector<std::vector<std::array<double, 4>>> samples;
+  int intersections_max{};
+  int contacts_max{};
+  int patches_max{};
+  int vr_max{};
 };
 
-void record_probes(const scene::CompiledScene& compiled, const coupling::WorldData& data,
-                   ProbeLog& log) {
+/// Number of intersecting triangle pairs (cloth–cloth, cloth–rigid) in the state collision
+/// handling resolved.
+int count_intersections(coupling::WorldData& data) {
+  std::vector<const collision::CollisionMesh*> meshes;
+  for (const collision::CollisionMesh& m : data.meshes) meshes.push_back(&m);
+  return collision::count_intersections(meshes, /*use_x1=*/true);
+}
+
+void record_frame(const scene::CompiledScene& compiled, coupling::WorldData& data,
+                  FrameLog& log) {
   log.samples.resize(compiled.probes.size());
   for (std::size_t p = 0; p < compiled.probes.size(); ++p) {
     const scene::CompiledProbe& probe = compiled.probes[p];
-    const Vec3 x = data.cloths[probe.cloth].x.row(probe.vertex).transpose();
+    const Vec3 x = probe.cloth >= 0 ? Vec3(data.cloths[probe.cloth].x.row(probe.vertex).transpose())
+                                    : data.rigid.world->probe_W(probe.body, probe.point);
     log.samples[p].push_back({data.time, x.x(), x.y(), x.z()});
   }
+  if (data.step > 0) log.intersections_max = std::max(log.intersections_max, count_intersections(data));
 }
 
 double median(std::vector<double> values) {
@@ -63,8 +79,8 @@ double median(std::vector<double> values) {
 }
 
 json make_summary(const scene::SceneSpec& spec, const scene::CompiledScene& compiled,
-                  const coupling::WorldData& data, const std::vector<double>& step_ms,
-                  const ProbeLog& probes) {
+                  const std::vector<double>& step_ms, const FrameLog& probes) {
+  const coupling::WorldData& data = compiled.data;
   json s;
   s["scene"] = spec.name;
   s["coupling"] = spec.coupling.mode;
@@ -93,6 +109,10 @@ json make_summary(const scene::SceneSpec& spec, const scene::CompiledScene& comp
     probe_json[compiled.probes[p].name] = probes.samples.size() > p ? json(probes.samples[p])
                                                                    : json::array();
   s["probes"] = probe_json;
+  s["intersections_max"] = probes.intersections_max;
+  s["contacts_max"] = probes.contacts_max;
+  s["patches_max"] = probes.patches_max;
+  s["vr_max"] = probes.vr_max;
   return s;
 }
 
@@ -133,26 +153,36 @@ int run_scene(const RunOptions& options) {
     return 1;
   }
 
-  coupling::WorldData data = coupling::make_data(compiled.model);
+  coupling::WorldData& data = compiled.data;
   const long total_steps = std::lround(spec.duration / spec.dt);
   const long steps_per_frame = std::max(1L, std::lround(1.0 / (spec.frame_rate * spec.dt)));
   ProgressBar progress(total_steps, spec.dt, !options.quiet && stderr_is_terminal());
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(total_steps));
-  ProbeLog probes;
+  FrameLog frames;
+
+  Recorder recorder(out, spec, compiled, options.export_obj);
 
   // Simulation loop: record frame 0, then every steps_per_frame steps.
-  record_probes(compiled, data, probes);
+  record_frame(compiled, data, frames);
+  recorder.write(compiled);
   while (data.step < total_steps && !data.lost) {
     coupling::step(compiled.model, data);
     step_ms.push_back(data.last_step_ms);
-    if (data.step % steps_per_frame == 0 && !data.lost) record_probes(compiled, data, probes);
+    frames.contacts_max = std::max(frames.contacts_max, data.stats.contacts);
+    frames.patches_max = std::max(frames.patches_max, data.stats.patches);
+    frames.vr_max = std::max(frames.vr_max, data.stats.vr);
+    if (data.step % steps_per_frame == 0 && !data.lost) {
+      record_frame(compiled, data, frames);
+      recorder.write(compiled);
+    }
     progress.update(data.step, data.last_step_ms);
   }
   progress.finish();
+  recorder.close();
 
   write_file_atomically(out / "summary.json",
-                        make_summary(spec, compiled, data, step_ms, probes).dump(2) + "\n");
+                        make_summary(spec, compiled, step_ms, frames).dump(2) + "\n");
   if (data.lost) {
     std::fprintf(stderr, "dexcloth: %s: simulation lost its state (NaN) at step %ld, t = %.4f s; "
                  "see %s\n", options.scene.c_str(), data.step, data.time,

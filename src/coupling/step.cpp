@@ -3,21 +3,36 @@
 #include <chrono>
 #include <string>
 
+#include "cloth/collision/strain_limit.hpp"
+#include "coupling/contact_forces.hpp"
+#include "coupling/patch_update.hpp"
+
 namespace dexcloth::coupling {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+/// Wall-clock laps for the Table-1 breakdown.
+class Stopwatch {
+ public:
+  /// Seconds since the last lap (or construction).
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - m_last).count();
+    m_last = now;
+    return s;
+  }
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+ private:
+  std::chrono::steady_clock::time_point m_last{std::chrono::steady_clock::now()};
+};
 
 /// Hard velocity constraints that carry every handle vertex to its keyframed place at t + h.
 void handle_constraints(const ClothBody& body, const cloth::ClothState& state, double t_next,
                         double h, std::vector<cloth::VelocityConstraint>& out) {
   out.clear();
   for (const Handle& handle : body.handles) {
-    const Vec3 offset = handle.motion.translation(t_next);
+    const Vec3 offset = handle.motion.empty()
+                            ? Vec3::Zero()
+                            : Vec3(rigid::sample_pose(handle.motion, t_next).X_WF.translation());
     for (std::size_t k = 0; k < handle.vertices.size(); ++k) {
       const int i = handle.vertices[k];
       const Vec3 target = handle.rest.row(static_cast<Eigen::Index>(k)).transpose() + offset;
@@ -26,32 +41,148 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
   }
 }
 
-}  // namespace
-
-void step(const WorldModel& model, WorldData& data) {
-  const auto start = Clock::now();
-  const double h = model.dt;
-  std::vector<cloth::VelocityConstraint>& constraints = data.scratch_constraints;
-
-  // Cloth dynamics: implicit Euler with handles as hard constraints.
+/// ClothDynamics (Algorithm 1): candidate velocities v̄ of every cloth, handles as constraints.
+void cloth_dynamics(const WorldModel& model, WorldData& data) {
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothBody& body = model.cloths[c];
     cloth::ClothState& state = data.cloths[c];
-    handle_constraints(body, state, data.time + h, h, constraints);
-    const cloth::DynamicsReport report =
-        cloth::solve_velocities(body.model, state, h, model.gravity, constraints);
+    handle_constraints(body, state, data.time + model.dt, model.dt, data.scratch_constraints);
+    const cloth::DynamicsReport report = cloth::solve_velocities(
+        body.model, state, model.dt, model.gravity, data.scratch_constraints);
     if (!report.ok) data.warnings.add(data.step, body.name + ": " + report.message);
-    cloth::advance_positions(state, h);
   }
-  data.timings.cloth += seconds_since(start);
+}
 
+/// The step's motion of every collision mesh: cloth x → x + h·v̄ with handle vertices frozen,
+/// rigid bodies x → x + h·v from the last rigid step.
+void load_collision_meshes(const WorldModel& model, WorldData& data) {
+  const double h = model.dt;
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) {
+    collision::CollisionMesh& mesh = data.meshes[c];
+    mesh.x0 = data.cloths[c].x;
+    mesh.x1 = data.cloths[c].x + h * data.cloths[c].v;
+    std::fill(mesh.frozen.begin(), mesh.frozen.end(), std::uint8_t{0});
+    for (const Handle& handle : model.cloths[c].handles)
+      for (int i : handle.vertices) mesh.frozen[static_cast<std::size_t>(i)] = 1;
+  }
+  for (std::size_t m = 0; m < data.rigid.meshes.size(); ++m) {
+    collision::CollisionMesh& mesh = data.meshes[model.cloths.size() + m];
+    mesh.x0 = data.rigid.meshes[m].x;
+    mesh.x1 = data.rigid.meshes[m].x + h * data.rigid.meshes[m].v;
+  }
+}
+
+/// Pointers to the collision meshes, as the collision routines take them.
+std::vector<collision::CollisionMesh*>& mesh_list(WorldData& data) {
+  data.mesh_pointers.clear();
+  for (collision::CollisionMesh& m : data.meshes) data.mesh_pointers.push_back(&m);
+  return data.mesh_pointers;
+}
+
+/// StrainLimit (Algorithm 1): per cloth with limits, frozen vertices fixed.
+void strain_limit(const WorldModel& model, WorldData& data) {
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) {
+    const ClothBody& body = model.cloths[c];
+    if (!body.strain_limits) continue;
+    collision::StrainLimitOptions options;
+    options.min_stretch = (*body.strain_limits)[0];
+    options.max_stretch = (*body.strain_limits)[1];
+    collision::CollisionMesh& mesh = data.meshes[c];
+    const collision::StrainLimitReport report = collision::limit_strain(
+        mesh.x1, mesh.faces, body.model.Dm_inv, mesh.mass, mesh.frozen, options);
+    if (!report.converged)
+      data.warnings.add(data.step, body.name + ": strain limiting left a stretch " +
+                                       std::to_string(report.violation) + " outside its bounds");
+  }
+}
+
+/// InelasticProjection (Algorithm 1): no collision is left on x0 → x1.
+void inelastic_projection(const WorldModel& model, WorldData& data) {
+  collision::ImpactZoneOptions options;
+  options.offset = 0.03 * model.thickness;
+  const collision::ImpactZoneReport report = data.impact_zones.resolve(mesh_list(data), options);
+  for (const std::string& w : report.warnings) data.warnings.add(data.step, w);
+}
+
+/// The cloth's new state from the refined end-of-step positions.
+void finish_cloth(const WorldModel& model, WorldData& data) {
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) {
+    const collision::CollisionMesh& mesh = data.meshes[c];
+    data.cloths[c].v = (mesh.x1 - mesh.x0) / model.dt;
+    data.cloths[c].x = mesh.x1;
+  }
+}
+
+/// ControlForce and RigidSimulation (Algorithm 1): controllers, the DART step, and the bodies'
+/// collision meshes for the next cloth step.
+void rigid_step(WorldData& data) {
+  RigidSide& rigid = data.rigid;
+  for (control::BuiltBody& body : rigid.bodies) body.controllers.apply(*rigid.world, rigid.world->time());
+  rigid.world->step();
+  rigid.world->export_obstacle_meshes(rigid.meshes);
+}
+
+}  // namespace
+
+void step(const WorldModel& model, WorldData& data) {
+  const auto start = std::chrono::steady_clock::now();
+  Stopwatch clock;
+  const int cloths = static_cast<int>(model.cloths.size());
+  const bool bai_liu = model.mode == CouplingMode::bai_liu;
+  const double h = model.dt;
+
+  // v̄ = ClothDynamics(x, v).
+  cloth_dynamics(model, data);
+  // Vr, Vc = ClothCollisionDetection(x, v̄, q, q̇): proximity and repulsion; in the kinematic
+  // baseline the repulsion pass also applies ARCSim's capped friction.
+  load_collision_meshes(model, data);
+  collision::RepulsionOptions repulsion;
+  repulsion.thickness = model.thickness;
+  repulsion.dt = h;
+  repulsion.friction = !bai_liu;
+  collision::detect_cloth_contacts(mesh_list(data), repulsion, data.contacts);
+  data.timings.cloth += clock.lap();
+
+  // Paper §4: contact groups, normal forces (§4.1), friction NCP and position constraints (§4.2).
+  group_contacts(cloths, h, data);
+  data.stats.sticking = 0;
+  if (bai_liu) {
+    assign_normal_forces(cloths, model.clusters.distance, data);
+    data.stats.sticking = apply_friction(h, data);
+  }
+  data.timings.interface += clock.lap();
+
+  // x̂ = StrainLimit(x̃, c); x̌ = InelasticProjection(x̂, c): constrained vertices do not move.
+  strain_limit(model, data);
+  inelastic_projection(model, data);
+  finish_cloth(model, data);
+  data.timings.cloth += clock.lap();
+
+  // q̄ = UpdateRigidClothPatches(x, v, Vr) (paper §5).
+  data.stats.patches = bai_liu ? update_patches(model, cloths, data) : 0;
+  data.timings.interface += clock.lap();
+
+  // τ = ControlForce(q̄); q, q̇, f_c = RigidSimulation(q̄, τ).
+  rigid_step(data);
+  data.timings.rigid += clock.lap();
+
+  // Bookkeeping: statistics, time, lost state.
+  data.stats.contacts = static_cast<int>(data.contacts.contacts.size());
+  data.stats.vr = data.stats.vc = 0;
+  for (int c = 0; c < cloths; ++c) {
+    const collision::ContactVertexSets sets =
+        collision::contact_vertex_sets(data.contacts.contacts, c);
+    data.stats.vr += static_cast<int>(sets.obstacle.size());
+    data.stats.vc += static_cast<int>(sets.cloth.size());
+  }
   data.time += h;
   ++data.step;
   if (!state_is_finite(data)) {
     data.lost = true;
     data.warnings.add(data.step, "state lost: NaN or infinite cloth position/velocity");
   }
-  const double elapsed = seconds_since(start);
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   data.timings.total += elapsed;
   data.last_step_ms = 1e3 * elapsed;
 }

@@ -2,11 +2,31 @@
 
 namespace dexcloth::coupling {
 
-WorldData make_data(const WorldModel& model) {
+WorldData make_data(const WorldModel& model, RigidSide rigid) {
   WorldData data;
+  data.rigid = std::move(rigid);
+  data.rigid.world->export_obstacle_meshes(data.rigid.meshes);
   data.cloths.reserve(model.cloths.size());
-  for (const ClothBody& body : model.cloths)
+  // Collision meshes: each cloth, then each rigid body's collision shapes.
+  for (const ClothBody& body : model.cloths) {
     data.cloths.push_back(cloth::make_state(body.model, body.x_rest));
+    collision::CollisionMesh mesh;
+    mesh.x0 = mesh.x1 = body.x_rest;
+    mesh.faces = body.model.faces;
+    mesh.mass = body.model.mass;
+    mesh.frozen.assign(static_cast<std::size_t>(body.x_rest.rows()), 0);
+    mesh.friction = body.model.material.friction;
+    data.meshes.push_back(std::move(mesh));
+  }
+  for (const rigid::ObstacleMesh& body : data.rigid.meshes) {
+    collision::CollisionMesh mesh;
+    mesh.x0 = mesh.x1 = body.x;
+    mesh.faces = body.faces;
+    mesh.mass = Eigen::VectorXd::Ones(body.x.rows());
+    mesh.obstacle = true;
+    mesh.friction = body.friction;
+    data.meshes.push_back(std::move(mesh));
+  }
   return data;
 }
 

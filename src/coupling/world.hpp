@@ -1,63 +1,116 @@
 #pragma once
-/// The simulated world: every cloth, obstacle and (later) rigid skeleton, split into an immutable
-/// WorldModel and a mutable WorldData (DESIGN.md, model/data split). `step` advances it.
+/// The simulated world: every cloth, the rigid world (DART skeletons and scene props) and the
+/// coupling's state, split into an immutable WorldModel and a mutable WorldData (DESIGN.md,
+/// model/data split). `step` (coupling/step.hpp) advances it by one time step.
+#include <array>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cloth/collision/cloth_contacts.hpp"
+#include "cloth/collision/impact_zones.hpp"
 #include "cloth/dynamics.hpp"
 #include "cloth/model.hpp"
 #include "cloth/state.hpp"
-#include "core/keyframes.hpp"
+#include "control/body_spec.hpp"
 #include "core/warnings.hpp"
+#include "coupling/contact_group.hpp"
+#include "coupling/rigid_patch.hpp"
+#include "rigid/keyframes.hpp"
+#include "rigid/obstacle_mesh.hpp"
+#include "rigid/world.hpp"
 
 namespace dexcloth::coupling {
 
-/// A pinned vertex set of a cloth, moved along a keyframe track.
-struct Handle {
-  std::vector<int> vertices;  ///< cloth vertex indices
-  Points rest;                ///< |vertices|×3 rest world positions [m]
-  KeyTrack motion;            ///< translation offset over time (empty: fixed)
+/// How cloth and rigid bodies exchange information (DESIGN.md, coupling modes).
+enum class CouplingMode {
+  bai_liu,    ///< the paper: DART normal forces, friction NCP, position constraints, patches
+  kinematic,  ///< ARCSim baseline: rigid bodies are kinematic obstacles, repulsion friction
 };
 
-/// One cloth: its immutable model and handles.
+/// A pinned vertex set of a cloth, moved along keyframes (translation offsets from rest).
+struct Handle {
+  std::vector<int> vertices;                 ///< cloth vertex indices
+  Points rest;                               ///< |vertices|×3 rest world positions [m]
+  std::vector<rigid::PoseKeyframe> motion;   ///< offset X_WF(t) (translation only); empty: fixed
+};
+
+/// One cloth: its immutable model, rest shape and handles.
 struct ClothBody {
   std::string name;
   cloth::ClothModel model;
-  Points x_rest;  ///< |V|×3 rest world positions [m] (the initial state)
+  Points x_rest;                                   ///< |V|×3 rest world positions [m]
   std::vector<Handle> handles;
+  std::optional<std::array<double, 2>> strain_limits;  ///< [min, max] singular values
 };
 
 /// Everything that does not change during a run.
 struct WorldModel {
   double dt{0.005};                     ///< time step [s]
   Vec3 gravity{0.0, 0.0, -9.81};        ///< [m/s²]
+  CouplingMode mode{CouplingMode::bai_liu};
+  double thickness{5e-3};               ///< repulsion thickness [m] (paper: 5 mm)
+  bool self_collision{true};
+  ClusterParams clusters;               ///< patch clustering thresholds (paper §5)
   std::vector<ClothBody> cloths;
 };
 
 /// Wall-clock seconds spent per part of the step (paper Table 1).
 struct Timings {
-  double cloth{};
-  double rigid{};
-  double interface{};
+  double cloth{};      ///< dynamics, collision handling, strain limiting
+  double rigid{};      ///< controllers and the DART step
+  double interface{};  ///< normal forces, friction NCP, position constraints, patches
   double total{};
+};
+
+/// Counts of the last step, for summaries.
+struct StepStats {
+  int contacts{};       ///< cloth vertex contact records
+  int vr{};             ///< vertices touching rigid bodies
+  int vc{};             ///< vertices touching cloth
+  int sticking{};       ///< static-friction vertices (position constrained)
+  int patches{};        ///< active rigid cloth patches
+};
+
+/// The rigid side: DART world, skeletons with their controllers, and which DART body each
+/// obstacle mesh stands for.
+struct RigidSide {
+  std::unique_ptr<rigid::RigidWorld> world;
+  std::vector<control::BuiltBody> bodies;
+  std::vector<rigid::ObstacleMesh> meshes;        ///< body collision meshes, refreshed per step
+  std::vector<rigid::BodyId> mesh_body;           ///< DART body of each mesh
+  std::vector<std::uint8_t> mesh_actuated;        ///< 1: a skeleton from `bodies` (hand, gripper)
 };
 
 /// Everything a step changes.
 struct WorldData {
   std::vector<cloth::ClothState> cloths;  ///< one per WorldModel::cloths
+  RigidSide rigid;
   double time{};                          ///< simulated time [s]
   long step{};                            ///< steps taken
   WarningLog warnings;
   Timings timings;
+  StepStats stats;
   double last_step_ms{};                  ///< wall time of the last step [ms]
   bool lost{};                            ///< state lost (NaN): the run cannot go on
-  std::vector<cloth::VelocityConstraint> scratch_constraints;  ///< per-step scratch
+  // Scratch, kept between steps so the step does not allocate.
+  std::vector<cloth::VelocityConstraint> scratch_constraints;
+  std::vector<collision::CollisionMesh> meshes;  ///< cloths first, then rigid bodies
+  std::vector<collision::CollisionMesh*> mesh_pointers;  ///< the same, as the routines take them
+  collision::ClothContacts contacts;
+  collision::ImpactZoneSolver impact_zones;
+  InterfaceScratch interface;
+  std::vector<RigidPatch> patches;
+  std::vector<PatchVertex> patch_vertices;
+  std::vector<int> patch_vertex_ids;   ///< cloth vertex of each patch vertex (one cloth at a time)
+  Points normals;                       ///< vertex normals scratch
 };
 
-/// Initial data of a model: cloths at rest, time zero.
-WorldData make_data(const WorldModel& model);
+/// Initial data: cloths at rest, time zero, the rigid world as built by the caller.
+WorldData make_data(const WorldModel& model, RigidSide rigid);
 
-/// True when every position and velocity is finite.
+/// True when every cloth position and velocity is finite.
 bool state_is_finite(const WorldData& data);
 
 }  // namespace dexcloth::coupling

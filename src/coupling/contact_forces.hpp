@@ -1,0 +1,27 @@
+#pragma once
+/// The interface of the paper between contact detection and the refinement steps: per-vertex
+/// contact groups, normal forces (§4.1), friction (§4.2) and position constraints (§3, §7.2).
+#include <vector>
+
+#include "coupling/contact_group.hpp"
+#include "coupling/world.hpp"
+
+namespace dexcloth::coupling {
+
+/// Merges data.contacts.contacts into groups, one per (vertex, other mesh, side), sorted by
+/// (cloth, vertex). `cloth_meshes` = number of cloth meshes at the front of data.meshes.
+/// Fills data.interface.groups.
+void group_contacts(int cloth_meshes, double h, WorldData& data);
+
+/// Paper §4.1: a vertex touching a DART body takes the normal force of the nearest contact point
+/// between that body and a rigid cloth patch, shared among all vertices that took the same point;
+/// other groups keep the cloth simulator's repulsion force. Contacts farther than `reach` [m]
+/// from the vertex are not taken.
+void assign_normal_forces(int cloth_meshes, double reach, WorldData& data);
+
+/// Paper §4.2 and §3: solves each vertex's friction NCP on the candidate velocity (x1 − x0)/h,
+/// moves x1 by h·Δv, and freezes (position-constrains) vertices in static friction. Returns the
+/// number of frozen vertices.
+int apply_friction(double h, WorldData& data);
+
+}  // namespace dexcloth::coupling

@@ -1,0 +1,30 @@
+#pragma once
+/// Per-vertex contact groups handed from contact detection to the paper's interface.
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace dexcloth::coupling {
+
+/// One side of a cloth vertex's contact: all proximity records of the vertex against one mesh on
+/// one side, merged (paper: one contact per touched surface, M ≤ 2 in practice).
+struct ContactGroup {
+  int cloth{};                       ///< cloth (mesh) index
+  int vertex{};                      ///< cloth vertex
+  int other_mesh{};                  ///< collision mesh on the other side
+  Vec3 normal{Vec3::Zero()};         ///< unit normal toward the vertex
+  Vec3 other_velocity{Vec3::Zero()}; ///< velocity of the touching surface [m/s]
+  double repulsion_force{};          ///< repulsion impulse / h [N]
+  double normal_force{};             ///< fN used for friction [N]
+  int rigid_contact{-1};             ///< DART contact taken (index into that body's contacts), or -1
+};
+
+/// Scratch of the interface, kept between steps so a step does not allocate.
+struct InterfaceScratch {
+  std::vector<ContactGroup> groups;
+  std::vector<int> order;
+  std::vector<double> weight;
+  std::vector<std::vector<int>> takers;  ///< per rigid mesh, per DART contact: vertices taking it
+};
+
+}  // namespace dexcloth::coupling
