@@ -1,0 +1,267 @@
+#include "cloth/dynamics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cloth/bending.hpp"
+#include "cloth/dynamics_workspace.hpp"
+#include "cloth/stretching.hpp"
+#include "core/assert.hpp"
+
+namespace dexcloth::cloth {
+namespace {
+
+/// Sizes the workspace for `model` (first step only).
+void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
+  if (ws.num_vertices == model.num_vertices()) return;
+  const int nv = model.num_vertices();
+  ws = DynamicsWorkspace{};
+  ws.num_vertices = nv;
+  ws.blocks.assign(static_cast<std::size_t>(model.pattern.num_blocks()), Mat3::Zero());
+  ws.rhs = Eigen::VectorXd::Zero(3 * nv);
+  ws.dv = Eigen::VectorXd::Zero(3 * nv);
+  ws.work = Eigen::VectorXd::Zero(3 * nv);
+  ws.constrained.assign(static_cast<std::size_t>(nv), 0);
+}
+
+/// Builds the permuted upper-triangle pattern for the direct solver and analyses it (once).
+void prepare_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
+  if (ws.ldlt_ready) return;
+  const SystemPattern& p = model.pattern;
+  const int nv = p.num_vertices;
+  std::vector<int> new_of(static_cast<std::size_t>(nv));
+  for (int k = 0; k < nv; ++k)
+    new_of[static_cast<std::size_t>(p.fill_order[static_cast<std::size_t>(k)])] = k;
+
+  ws.ldlt_col_start.assign(1, 0);
+  ws.ldlt_row.clear();
+  ws.ldlt_source.clear();
+  ws.ldlt_dof.resize(static_cast<std::size_t>(3 * nv));
+  std::vector<std::pair<int, int>> column;  // (new row vertex, block) of one block column
+  for (int pv = 0; pv < nv; ++pv) {
+    const int j = p.fill_order[static_cast<std::size_t>(pv)];
+    column.clear();
+    for (int b = p.col_start[static_cast<std::size_t>(j)];
+         b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
+      const int q = new_of[static_cast<std::size_t>(p.row[static_cast<std::size_t>(b)])];
+      if (q <= pv) column.emplace_back(q, b);
+    }
+    std::sort(column.begin(), column.end());
+    // Scalar columns 3pv + c: rows 3q + r of each block, upper triangle only.
+    for (int c = 0; c < 3; ++c) {
+      ws.ldlt_dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
+      for (const auto& [q, b] : column) {
+        for (int r = 0; r <= (q < pv ? 2 : c); ++r) {
+          ws.ldlt_row.push_back(3 * q + r);
+          ws.ldlt_source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
+        }
+      }
+      ws.ldlt_col_start.push_back(static_cast<int>(ws.ldlt_row.size()));
+    }
+  }
+  ws.ldlt_values.assign(ws.ldlt_row.size(), 0.0);
+  ws.ldlt.analyze(3 * nv, ws.ldlt_col_start, ws.ldlt_row);
+  ws.ldlt_ready = true;
+}
+
+/// Adds c·H (element Hessian, n vertices) into the system blocks and h·(−g − (h + β)·H·v_e) into
+/// the right-hand side.
+template <int N>
+void scatter(const std::array<int, N * N>& block_of, const std::array<int, N>& verts,
+             const Eigen::Matrix<double, 3 * N, 1>& grad,
+             const Eigen::Matrix<double, 3 * N, 3 * N>& hess, const Points& v, double c_stiff,
+             double c_rhs_force, double c_rhs_damp, DynamicsWorkspace& ws) {
+  Eigen::Matrix<double, 3 * N, 1> ve;
+  for (int a = 0; a < N; ++a)
+    ve.template segment<3>(3 * a) = v.row(verts[static_cast<std::size_t>(a)]).transpose();
+  const Eigen::Matrix<double, 3 * N, 1> r = -c_rhs_force * grad - c_rhs_damp * (hess * ve);
+  for (int a = 0; a < N; ++a) {
+    ws.rhs.template segment<3>(3 * verts[static_cast<std::size_t>(a)]) +=
+        r.template segment<3>(3 * a);
+    for (int b = 0; b < N; ++b) {
+      ws.blocks[static_cast<std::size_t>(block_of[static_cast<std::size_t>(N * a + b)])] +=
+          c_stiff * hess.template block<3, 3>(3 * a, 3 * b);
+    }
+  }
+}
+
+/// Assembles A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) into the workspace.
+void assemble(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
+              DynamicsWorkspace& ws) {
+  const double beta = model.material.damping;
+  const double c_stiff = h * h + h * beta;
+  const double c_damp = h * (h + beta);
+  std::fill(ws.blocks.begin(), ws.blocks.end(), Mat3::Zero());
+  ws.rhs.setZero();
+
+  // Stretching, per face.
+  Vec9 g9;
+  Mat9 H9;
+  for (int f = 0; f < model.faces.rows(); ++f) {
+    const std::array<int, 3> vs = {model.faces(f, 0), model.faces(f, 1), model.faces(f, 2)};
+    stretch_gradient_hessian_psd(
+        state.x.row(vs[0]).transpose(), state.x.row(vs[1]).transpose(),
+        state.x.row(vs[2]).transpose(), model.Dm_inv[static_cast<std::size_t>(f)],
+        model.rest_area[static_cast<std::size_t>(f)], model.stretch, g9, H9);
+    scatter<3>(model.pattern.face_blocks[static_cast<std::size_t>(f)], vs, g9, H9, state.v, c_stiff,
+               h, c_damp, ws);
+  }
+
+  // Bending, per hinge.
+  Vec12 g12;
+  Mat12 H12;
+  if (model.bending_k > 0.0) {
+    for (std::size_t e = 0; e < model.hinges.size(); ++e) {
+      const Hinge& hg = model.hinges[e];
+      bending_gradient_hessian_psd(
+          state.x.row(hg.v[0]).transpose(), state.x.row(hg.v[1]).transpose(),
+          state.x.row(hg.v[2]).transpose(), state.x.row(hg.v[3]).transpose(), hg.rest_angle,
+          hg.weight, model.bending_k, g12, H12);
+      scatter<4>(model.pattern.hinge_blocks[e], hg.v, g12, H12, state.v, c_stiff, h, c_damp, ws);
+    }
+  }
+
+  // Mass, gravity and external forces.
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    const double m = model.mass[i];
+    ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(i)])]
+        .diagonal()
+        .array() += m;
+    ws.rhs.segment<3>(3 * i) += h * (state.f_ext.row(i).transpose() + m * gravity);
+  }
+}
+
+/// Eliminates the constrained unknowns: Δv_i = v*_i − v_i is moved to the right-hand side and
+/// row/column i become M_i·I, so the pattern (and its analysis) never changes.
+void eliminate_constraints(const ClothModel& model, const ClothState& state,
+                           std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws) {
+  const SystemPattern& p = model.pattern;
+  std::fill(ws.constrained.begin(), ws.constrained.end(), 0);
+  for (const VelocityConstraint& c : constraints) {
+    const int i = c.vertex;
+    const Vec3 dv_i = c.velocity - state.v.row(i).transpose();
+    for (int b = p.col_start[static_cast<std::size_t>(i)];
+         b < p.col_start[static_cast<std::size_t>(i) + 1]; ++b) {
+      const int j = p.row[static_cast<std::size_t>(b)];
+      if (j == i) continue;
+      ws.rhs.segment<3>(3 * j) -= ws.blocks[static_cast<std::size_t>(b)] * dv_i;
+      ws.blocks[static_cast<std::size_t>(b)].setZero();
+      ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])].setZero();
+    }
+    const double m = model.mass[i];
+    ws.blocks[static_cast<std::size_t>(p.diagonal[static_cast<std::size_t>(i)])] =
+        m * Mat3::Identity();
+    ws.rhs.segment<3>(3 * i) = m * dv_i;
+    ws.constrained[static_cast<std::size_t>(i)] = 1;
+  }
+}
+
+/// Direct solve into ws.dv; returns the report.
+DynamicsReport solve_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
+  prepare_ldlt(model, ws);
+  DynamicsReport report;
+  report.iterations = 1;
+  // Gather the permuted upper triangle and factorise.
+  const double* const base = ws.blocks.data()->data();
+  for (std::size_t k = 0; k < ws.ldlt_values.size(); ++k)
+    ws.ldlt_values[k] = base[ws.ldlt_source[k]];
+  if (const int col = ws.ldlt.factorize(ws.ldlt_values); col >= 0) {
+    report.ok = false;
+    report.message = "LDLT pivot not positive at unknown " +
+                     std::to_string(ws.ldlt_dof[static_cast<std::size_t>(col)]) +
+                     " (system not positive definite or not finite)";
+    return report;
+  }
+  // Solve in the permuted order.
+  const auto n = static_cast<std::size_t>(ws.rhs.size());
+  for (std::size_t k = 0; k < n; ++k)
+    ws.work[static_cast<Eigen::Index>(k)] = ws.rhs[ws.ldlt_dof[k]];
+  ws.ldlt.solve_in_place(std::span<double>(ws.work.data(), n));
+  for (std::size_t k = 0; k < n; ++k) ws.dv[ws.ldlt_dof[k]] = ws.work[static_cast<Eigen::Index>(k)];
+  return report;
+}
+
+/// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv.
+double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
+  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work);
+  ws.work -= ws.rhs;
+  const double b_norm = ws.rhs.norm();
+  return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);
+}
+
+}  // namespace
+
+DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
+                                const Vec3& gravity,
+                                std::span<const VelocityConstraint> constraints) {
+  const int nv = model.num_vertices();
+  DEXCLOTH_DEMAND(h > 0.0);
+  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
+  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+
+  DynamicsWorkspace& ws = state.scratch.get();
+  prepare(model, ws);
+  assemble(model, state, h, gravity, ws);
+  eliminate_constraints(model, state, constraints, ws);
+
+  // Linear solve for Δv.
+  DynamicsReport report;
+  const SolverSettings& settings = model.solver;
+  if (settings.linear_solver == LinearSolver::ldlt) {
+    report = solve_ldlt(model, ws);
+    if (!report.ok) return report;
+    report.residual = direct_residual(model, ws);
+  } else {
+    if (!ws.pcg_ready) {
+      ws.pcg.resize(nv);
+      ws.pcg_ready = true;
+    }
+    // Warm start from the last Δv, with the constrained unknowns at their known values.
+    for (const VelocityConstraint& c : constraints) {
+      ws.dv.segment<3>(3 * c.vertex) = ws.rhs.segment<3>(3 * c.vertex) / model.mass[c.vertex];
+    }
+    const PcgResult r = ws.pcg.solve(model.pattern, ws.blocks, ws.rhs, ws.dv, settings.tolerance,
+                                     settings.max_iterations);
+    report.iterations = r.iterations;
+    report.residual = r.residual;
+    if (!r.converged) {
+      // Fall back to the direct solver for this step.
+      const std::string why = "PCG did not converge (relative residual " +
+                              std::to_string(r.residual) + " after " +
+                              std::to_string(r.iterations) + " iterations)";
+      report = solve_ldlt(model, ws);
+      if (!report.ok) {
+        report.message = why + "; " + report.message;
+        ws.dv.setZero();
+        return report;
+      }
+      report.residual = direct_residual(model, ws);
+      report.iterations += r.iterations;
+      report.message = why + "; solved with LDLT";
+    }
+  }
+  if (!ws.dv.allFinite() || !(report.residual <= std::max(settings.tolerance, 1e-6))) {
+    report.ok = false;
+    report.message =
+        "linear solve produced a non-finite or inaccurate velocity (relative residual " +
+        std::to_string(report.residual) + ")";
+    ws.dv.setZero();
+    return report;
+  }
+
+  // v̄ = v + Δv; constrained vertices take their velocity exactly.
+  state.v += Points::Map(ws.dv.data(), nv, 3);
+  for (const VelocityConstraint& c : constraints) state.v.row(c.vertex) = c.velocity.transpose();
+  return report;
+}
+
+void advance_positions(ClothState& state, double h) { state.x += h * state.v; }
+
+DynamicsReport step_dynamics(const ClothModel& model, ClothState& state, double h,
+                             const Vec3& gravity, std::span<const VelocityConstraint> constraints) {
+  DynamicsReport report = solve_velocities(model, state, h, gravity, constraints);
+  if (report.ok) advance_positions(state, h);
+  return report;
+}
+
+}  // namespace dexcloth::cloth

@@ -1,0 +1,32 @@
+#pragma once
+/// Internal to the dynamics: the buffers of the implicit step, allocated on the first step.
+#include <vector>
+
+#include "cloth/block_pcg.hpp"
+#include "cloth/sparse_ldlt.hpp"
+#include "core/types.hpp"
+
+namespace dexcloth::cloth {
+
+/// Buffers of solve_velocities (see dynamics.cpp). Sized for one model on the first step.
+struct DynamicsWorkspace {
+  int num_vertices{-1};           ///< |V| the buffers are sized for; −1 before the first step
+  std::vector<Mat3> blocks;       ///< values of the system matrix, one per pattern block
+  Eigen::VectorXd rhs;            ///< 3|V| right-hand side
+  Eigen::VectorXd dv;             ///< 3|V| velocity change (PCG warm start)
+  Eigen::VectorXd work;           ///< 3|V| scratch (residual, permuted vectors)
+  std::vector<char> constrained;  ///< |V| flags of velocity-constrained vertices
+  // Direct solver: the system's upper triangle in fill-reducing order.
+  bool ldlt_ready{false};
+  std::vector<int> ldlt_col_start;  ///< 3|V|+1
+  std::vector<int> ldlt_row;        ///< permuted row of each stored entry
+  std::vector<int> ldlt_source;     ///< offset of each stored entry in `blocks` (as doubles)
+  std::vector<int> ldlt_dof;        ///< permuted unknown k is original unknown ldlt_dof[k]
+  std::vector<double> ldlt_values;  ///< gathered values
+  SparseLdlt ldlt;
+  // Iterative solver.
+  bool pcg_ready{false};
+  BlockPcg pcg;
+};
+
+}  // namespace dexcloth::cloth

@@ -1,0 +1,117 @@
+#include "cloth/sparse_ldlt.hpp"
+
+#include <cmath>
+
+#include "core/assert.hpp"
+
+namespace dexcloth::cloth {
+
+void SparseLdlt::analyze(int n, std::span<const int> col_start, std::span<const int> row) {
+  DEXCLOTH_DEMAND(n >= 0 && col_start.size() == static_cast<std::size_t>(n) + 1);
+  DEXCLOTH_DEMAND(row.size() == static_cast<std::size_t>(col_start[static_cast<std::size_t>(n)]));
+  const auto un = static_cast<std::size_t>(n);
+  m_n = n;
+  m_Ap.assign(col_start.begin(), col_start.end());
+  m_Ai.assign(row.begin(), row.end());
+  m_parent.assign(un, -1);
+  m_Lnz.assign(un, 0);
+  m_flag.assign(un, -1);
+  m_Lp.assign(un + 1, 0);
+  int* const parent = m_parent.data();
+  int* const Lnz = m_Lnz.data();
+  int* const flag = m_flag.data();
+
+  // Elimination tree and column counts of L: row k of L is the set of nodes reachable in the
+  // tree from the nonzeros A(i, k), i < k.
+  for (int k = 0; k < n; ++k) {
+    flag[k] = k;
+    for (int p = m_Ap[k]; p < m_Ap[k + 1]; ++p) {
+      int i = m_Ai[p];
+      DEXCLOTH_DEMAND(i >= 0 && i <= k);
+      for (; flag[i] != k; i = parent[i]) {
+        if (parent[i] == -1) parent[i] = k;
+        ++Lnz[i];
+        flag[i] = k;
+      }
+    }
+  }
+  for (std::size_t k = 0; k < un; ++k) m_Lp[k + 1] = m_Lp[k] + m_Lnz[k];
+
+  // Numeric buffers.
+  m_Li.assign(static_cast<std::size_t>(m_Lp[un]), 0);
+  m_Lx.assign(static_cast<std::size_t>(m_Lp[un]), 0.0);
+  m_D.assign(un, 0.0);
+  m_y.assign(un, 0.0);
+  m_pattern.assign(un, 0);
+}
+
+int SparseLdlt::factorize(std::span<const double> values) {
+  DEXCLOTH_DEMAND(values.size() == m_Ai.size());
+  const int n = m_n;
+  int* const flag = m_flag.data();
+  int* const parent = m_parent.data();
+  int* const Lnz = m_Lnz.data();
+  int* const Lp = m_Lp.data();
+  int* const Li = m_Li.data();
+  int* const pattern = m_pattern.data();
+  double* const Lx = m_Lx.data();
+  double* const D = m_D.data();
+  double* const y = m_y.data();
+
+  for (int k = 0; k < n; ++k) {
+    // Scatter column k of A into y and find the pattern of row k of L (topological order).
+    y[k] = 0.0;
+    int top = n;
+    flag[k] = k;
+    Lnz[k] = 0;
+    for (int p = m_Ap[k]; p < m_Ap[k + 1]; ++p) {
+      int i = m_Ai[p];
+      y[i] += values[p];
+      int len = 0;
+      for (; flag[i] != k; i = parent[i]) {
+        pattern[len++] = i;
+        flag[i] = k;
+      }
+      while (len > 0) pattern[--top] = pattern[--len];
+    }
+    // Sparse triangular solve for row k of L, accumulating the pivot D(k).
+    D[k] = y[k];
+    y[k] = 0.0;
+    for (; top < n; ++top) {
+      const int i = pattern[top];
+      const double yi = y[i];
+      y[i] = 0.0;
+      const int end = Lp[i] + Lnz[i];
+      for (int p = Lp[i]; p < end; ++p) y[Li[p]] -= Lx[p] * yi;
+      const double l_ki = yi / D[i];
+      D[k] -= l_ki * yi;
+      Li[end] = k;
+      Lx[end] = l_ki;
+      ++Lnz[i];
+    }
+    if (!(D[k] > 0.0) || !std::isfinite(D[k])) return k;
+  }
+  return -1;
+}
+
+void SparseLdlt::solve_in_place(std::span<double> b) const {
+  DEXCLOTH_DEMAND(b.size() == static_cast<std::size_t>(m_n));
+  const int n = m_n;
+  const int* const Lp = m_Lp.data();
+  const int* const Li = m_Li.data();
+  const double* const Lx = m_Lx.data();
+  double* const x = b.data();
+  // L·z = b (forward), D·w = z, Lᵀ·x = w (backward).
+  for (int j = 0; j < n; ++j) {
+    const double xj = x[j];
+    for (int p = Lp[j]; p < Lp[j + 1]; ++p) x[Li[p]] -= Lx[p] * xj;
+  }
+  for (int j = 0; j < n; ++j) x[j] /= m_D[static_cast<std::size_t>(j)];
+  for (int j = n - 1; j >= 0; --j) {
+    double xj = x[j];
+    for (int p = Lp[j]; p < Lp[j + 1]; ++p) xj -= Lx[p] * x[Li[p]];
+    x[j] = xj;
+  }
+}
+
+}  // namespace dexcloth::cloth
