@@ -30,6 +30,7 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
                         double h, std::vector<cloth::VelocityConstraint>& out) {
   out.clear();
   for (const Handle& handle : body.handles) {
+    if (t_next > handle.release + 1e-12) continue;
     const Vec3 offset = handle.motion.empty()
                             ? Vec3::Zero()
                             : Vec3(rigid::sample_pose(handle.motion, t_next).X_WF.translation());
@@ -63,7 +64,8 @@ void load_collision_meshes(const WorldModel& model, WorldData& data) {
     mesh.x1 = data.cloths[c].x + h * data.cloths[c].v;
     std::fill(mesh.frozen.begin(), mesh.frozen.end(), std::uint8_t{0});
     for (const Handle& handle : model.cloths[c].handles)
-      for (int i : handle.vertices) mesh.frozen[static_cast<std::size_t>(i)] = 1;
+      if (data.time + h <= handle.release + 1e-12)
+        for (int i : handle.vertices) mesh.frozen[static_cast<std::size_t>(i)] = 1;
   }
   for (std::size_t m = 0; m < data.rigid.meshes.size(); ++m) {
     collision::CollisionMesh& mesh = data.meshes[model.cloths.size() + m];

@@ -3,6 +3,7 @@
 /// coupling's state, split into an immutable WorldModel and a mutable WorldData (DESIGN.md,
 /// model/data split). `step` (coupling/step.hpp) advances it by one time step.
 #include <array>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,7 @@ struct Handle {
   std::vector<int> vertices;                 ///< cloth vertex indices
   Points rest;                               ///< |vertices|×3 rest world positions [m]
   std::vector<rigid::PoseKeyframe> motion;   ///< offset X_WF(t) (translation only); empty: fixed
+  double release{std::numeric_limits<double>::infinity()};  ///< time the handle lets go [s]
 };
 
 /// One cloth: its immutable model, rest shape and handles.

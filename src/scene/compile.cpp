@@ -150,6 +150,7 @@ coupling::Handle compile_handle(const HandleSpec& spec, const cloth::ClothMesh& 
   for (std::size_t k = 0; k < handle.vertices.size(); ++k)
     handle.rest.row(static_cast<Eigen::Index>(k)) = mesh.x.row(handle.vertices[k]);
   handle.motion = handle_track(spec.motion);
+  if (spec.release) handle.release = *spec.release;
   return handle;
 }
 

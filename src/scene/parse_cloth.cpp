@@ -87,7 +87,7 @@ HandleSpec parse_handle(Checker& c, const Json& v, const Pointer& at,
                         std::optional<std::int64_t> vertex_count) {
   HandleSpec h;
   if (!c.require_object(v, at)) return h;
-  c.check_keys(v, at, {"vertices", "box", "motion"});
+  c.check_keys(v, at, {"vertices", "box", "motion", "release"});
   for (const auto& kind : one_of(c, v, at, {"vertices", "box"})) {
     const Pointer at_k = at / kind;
     if (kind == "box") {
@@ -110,6 +110,9 @@ HandleSpec parse_handle(Checker& c, const Json& v, const Pointer& at,
   }
   if (const Json* m = c.member(v, at, "motion", Need::optional)) {
     h.motion = parse_motion(c, *m, at / "motion", false);
+  }
+  if (const Json* r = c.member(v, at, "release", Need::optional)) {
+    h.release = c.require_number(*r, at / "release", Rule::non_negative());
   }
   return h;
 }

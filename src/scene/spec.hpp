@@ -42,6 +42,7 @@ struct HandleSpec {
   std::vector<int> vertices;              ///< explicit vertex indices (may be empty if box given)
   std::optional<std::array<Vec3, 2>> box; ///< {min, max} world-space box [m]
   std::vector<KeyframeSpec> motion;       ///< optional translation keyframes
+  std::optional<double> release;          ///< time [s] the handle lets go (held forever if absent)
 };
 
 /// Cloth geometry: a grid or an OBJ file.
