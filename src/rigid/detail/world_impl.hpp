@@ -1,0 +1,99 @@
+#pragma once
+/// Internal state of a RigidWorld (DART types). Included only by src/rigid/*.cpp.
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include <dart/collision/CollisionFilter.hpp>
+#include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/BoxShape.hpp>
+#include <dart/dynamics/Skeleton.hpp>
+#include <dart/simulation/World.hpp>
+
+#include "rigid/world.hpp"
+
+namespace dexcloth::rigid::detail {
+
+/// One body node known to the world.
+struct BodyRecord {
+  std::string name;                          ///< "skeleton/body_node"
+  dart::dynamics::BodyNode* node{};
+  int skeleton{-1};
+  int patch{-1};                             ///< pool index for patch bodies, else −1
+  std::vector<ContactPoint> contacts;        ///< from the last step
+};
+
+/// One skeleton known to the world.
+struct SkeletonRecord {
+  std::string name;
+  std::string file;                          ///< URDF path as given, "" otherwise
+  dart::dynamics::SkeletonPtr skel;
+  std::vector<int> bodies;                   ///< BodyRecord indices, DART order
+  std::vector<PoseKeyframe> motion;          ///< keyframed (kinematic) props
+  /// Joint PD per DOF (set_joint_pd; URDF joint damping is the initial kd): stiffness
+  /// [N·m/rad or N/m], damping [N·m·s/rad or N·s/m], target [rad or m]. Realised by
+  /// apply_stable_pd; DART's own joint springs and dampers stay at zero.
+  Eigen::VectorXd pd_kp, pd_kd, pd_target;
+  /// Scratch of apply_stable_pd (sized once per skeleton).
+  Eigen::MatrixXd pd_matrix;
+  Eigen::VectorXd pd_rhs, pd_qdd;
+  Eigen::LLT<Eigen::MatrixXd> pd_llt;
+};
+
+/// One pool patch.
+struct PatchRecord {
+  int body{-1};
+  int skeleton{-1};
+  bool active{false};
+  std::shared_ptr<dart::dynamics::BoxShape> box;
+  Eigen::Isometry3d X_W_park{Eigen::Isometry3d::Identity()};  ///< where an inactive patch waits
+};
+
+/// Collision filter: DART's body-node rules (adjacent links, self collision, black list) plus
+/// the patch rules (no patch–patch pairs, inactive patches collide with nothing).
+class CollisionFilter final : public dart::collision::BodyNodeCollisionFilter {
+ public:
+  explicit CollisionFilter(const WorldImpl& world) : m_world(&world) {}
+  bool ignoresCollision(const dart::collision::CollisionObject* object1,
+                        const dart::collision::CollisionObject* object2) const override;
+
+ private:
+  const WorldImpl* m_world;
+};
+
+struct WorldImpl {
+  RigidWorldOptions options;
+  dart::simulation::WorldPtr world;
+  std::shared_ptr<CollisionFilter> filter;
+  std::vector<SkeletonRecord> skeletons;
+  std::vector<BodyRecord> bodies;
+  std::unordered_map<const dart::dynamics::BodyNode*, int> body_of_node;
+  std::vector<PatchRecord> patches;
+  std::unique_ptr<PatchPool> pool;
+  bool patch_gravity{true};
+  long steps{};
+  /// Obstacle export cache: exportable bodies and their body-frame meshes, built when the
+  /// number of bodies changes.
+  std::size_t obstacle_cache_bodies{0};
+  std::vector<int> obstacle_bodies;
+  std::vector<LocalMesh> obstacle_local;
+  int num_contacts{};
+
+  /// Adds `skel` to the DART world and registers its bodies.
+  int register_skeleton(dart::dynamics::SkeletonPtr skel, std::string file);
+  /// Record of the body owning a DART body node, or −1 (unknown node).
+  int body_index(const dart::dynamics::BodyNode* node) const;
+  /// Moves patch `i` to its parked, inactive state.
+  void park_patch(int i);
+  /// Adds the stable-PD torques of every skeleton with joint gains to its forces (see world.cpp).
+  void apply_stable_pd();
+};
+
+/// Sets pose and velocity of a free-joint root (positions and body-frame velocities).
+void set_free_root_state(dart::dynamics::Skeleton& skel, const Eigen::Isometry3d& X_WB,
+                         const Vec3& v_W, const Vec3& w_W);
+
+}  // namespace dexcloth::rigid::detail
