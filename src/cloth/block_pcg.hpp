@@ -1,6 +1,10 @@
 #pragma once
 /// Products with the block-sparse system matrix and a block-Jacobi preconditioned conjugate
 /// gradient solver whose buffers are allocated once.
+///
+/// Parallelism: the vector work is split into fixed chunks of kPcgChunkVertices block rows that
+/// OpenMP threads share; reductions (dot products) are summed per chunk and then over the chunks
+/// in chunk order, so results are bitwise identical run to run and for any thread count.
 #include <span>
 #include <vector>
 
@@ -9,10 +13,13 @@
 
 namespace dexcloth::cloth {
 
+/// Block rows (vertices) per chunk of the parallel vector work.
+inline constexpr int kPcgChunkVertices = 64;
+
 /// y = A·x for the symmetric matrix A with pattern `p` and 3×3 `blocks` (one per pattern
-/// block); x and y of size 3|V|.
+/// block); x and y of size 3|V|. Uses up to `threads` OpenMP threads for large systems.
 void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
-                    Eigen::VectorXd& y);
+                    Eigen::VectorXd& y, int threads = 1);
 
 /// Outcome of one PCG solve.
 struct PcgResult {
@@ -28,13 +35,16 @@ class BlockPcg {
   void resize(int num_vertices);
 
   /// Solves A·x = b for SPD A (pattern `p`, `blocks`), starting from the given `x` (warm start),
-  /// until the relative residual is ≤ `tolerance` or `max_iterations` are done.
+  /// until the relative residual is ≤ `tolerance` or `max_iterations` are done, on up to
+  /// `threads` OpenMP threads (the result does not depend on `threads`).
   PcgResult solve(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& b,
-                  Eigen::VectorXd& x, double tolerance, int max_iterations);
+                  Eigen::VectorXd& x, double tolerance, int max_iterations, int threads = 1);
 
  private:
   std::vector<Mat3> m_inv_diag;
   Eigen::VectorXd m_r, m_z, m_p, m_q;
+  /// Per-chunk partial sums of the reductions, kPartials per chunk.
+  std::vector<double> m_partial;
 };
 
 }  // namespace dexcloth::cloth

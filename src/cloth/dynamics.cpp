@@ -137,6 +137,16 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
                            std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws) {
   const SystemPattern& p = model.pattern;
   std::fill(ws.constrained.begin(), ws.constrained.end(), 0);
+  // Keep the constrained rows as assembled, before any of them is eliminated, so the impulse each
+  // constraint applies can be recovered after the solve (constraint_impulses).
+  ws.saved_rows.clear();
+  ws.saved_rhs.clear();
+  for (const VelocityConstraint& c : constraints) {
+    const auto i = static_cast<std::size_t>(c.vertex);
+    for (int b = p.col_start[i]; b < p.col_start[i + 1]; ++b)
+      ws.saved_rows.push_back(ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])]);
+    ws.saved_rhs.push_back(ws.rhs.segment<3>(3 * c.vertex));
+  }
   for (const VelocityConstraint& c : constraints) {
     const int i = c.vertex;
     const Vec3 dv_i = c.velocity - state.v.row(i).transpose();
@@ -153,6 +163,24 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
         m * Mat3::Identity();
     ws.rhs.segment<3>(3 * i) = m * dv_i;
     ws.constrained[static_cast<std::size_t>(i)] = 1;
+  }
+}
+
+/// Fills `impulses` (|V|×3, zero for free vertices) with the impulse [N·s] each velocity
+/// constraint applied over the step: the residual A_i·Δv − b_i of its row as assembled.
+void constraint_impulses(const ClothModel& model, std::span<const VelocityConstraint> constraints,
+                         const DynamicsWorkspace& ws, Points& impulses) {
+  const SystemPattern& p = model.pattern;
+  impulses.setZero(model.num_vertices(), 3);
+  std::size_t row = 0;
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const auto i = static_cast<std::size_t>(constraints[k].vertex);
+    Vec3 J = -ws.saved_rhs[k];
+    for (int b = p.col_start[i]; b < p.col_start[i + 1]; ++b) {
+      const int j = p.row[static_cast<std::size_t>(b)];
+      J += ws.saved_rows[row++] * ws.dv.segment<3>(3 * j);
+    }
+    impulses.row(static_cast<Eigen::Index>(i)) = J.transpose();
   }
 }
 
@@ -183,7 +211,7 @@ DynamicsReport solve_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
 
 /// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv.
 double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
-  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work);
+  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, model.solver.threads);
   ws.work -= ws.rhs;
   const double b_norm = ws.rhs.norm();
   return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);
@@ -191,20 +219,17 @@ double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
 
 }  // namespace
 
-DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
-                                const Vec3& gravity,
-                                std::span<const VelocityConstraint> constraints) {
-  const int nv = model.num_vertices();
-  DEXCLOTH_DEMAND(h > 0.0);
-  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
-  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
-
-  DynamicsWorkspace& ws = state.scratch.get();
+void assemble_system(const ClothModel& model, const ClothState& state, double h,
+                     const Vec3& gravity, std::span<const VelocityConstraint> constraints,
+                     DynamicsWorkspace& ws) {
   prepare(model, ws);
   assemble(model, state, h, gravity, ws);
   eliminate_constraints(model, state, constraints, ws);
+}
 
-  // Linear solve for Δv.
+DynamicsReport solve_system(const ClothModel& model,
+                            std::span<const VelocityConstraint> constraints,
+                            DynamicsWorkspace& ws) {
   DynamicsReport report;
   const SolverSettings& settings = model.solver;
   if (settings.linear_solver == LinearSolver::ldlt) {
@@ -213,7 +238,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
     report.residual = direct_residual(model, ws);
   } else {
     if (!ws.pcg_ready) {
-      ws.pcg.resize(nv);
+      ws.pcg.resize(model.num_vertices());
       ws.pcg_ready = true;
     }
     // Warm start from the last Δv, with the constrained unknowns at their known values.
@@ -221,7 +246,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
       ws.dv.segment<3>(3 * c.vertex) = ws.rhs.segment<3>(3 * c.vertex) / model.mass[c.vertex];
     }
     const PcgResult r = ws.pcg.solve(model.pattern, ws.blocks, ws.rhs, ws.dv, settings.tolerance,
-                                     settings.max_iterations);
+                                     settings.max_iterations, settings.threads);
     report.iterations = r.iterations;
     report.residual = r.residual;
     if (!r.converged) {
@@ -246,9 +271,27 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
         "linear solve produced a non-finite or inaccurate velocity (relative residual " +
         std::to_string(report.residual) + ")";
     ws.dv.setZero();
-    return report;
   }
+  return report;
+}
 
+DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
+                                const Vec3& gravity,
+                                std::span<const VelocityConstraint> constraints) {
+  const int nv = model.num_vertices();
+  DEXCLOTH_DEMAND(h > 0.0);
+  DEXCLOTH_DEMAND(model.solver.threads >= 1);
+  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
+  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+
+  // Assemble A·Δv = b, then solve it.
+  DynamicsWorkspace& ws = state.scratch.get();
+  assemble_system(model, state, h, gravity, constraints, ws);
+  const DynamicsReport report = solve_system(model, constraints, ws);
+  if (!report.ok) return report;
+
+  // Impulse J_i = A_i·Δv − b_i each constraint applied (its unsatisfied row of the system).
+  constraint_impulses(model, constraints, ws, state.constraint_impulse);
   // v̄ = v + Δv; constrained vertices take their velocity exactly.
   state.v += Points::Map(ws.dv.data(), nv, 3);
   for (const VelocityConstraint& c : constraints) state.v.row(c.vertex) = c.velocity.transpose();

@@ -1,8 +1,10 @@
 #pragma once
 /// Internal to the dynamics: the buffers of the implicit step, allocated on the first step.
+#include <span>
 #include <vector>
 
 #include "cloth/block_pcg.hpp"
+#include "cloth/dynamics.hpp"
 #include "cloth/sparse_ldlt.hpp"
 #include "core/types.hpp"
 
@@ -16,6 +18,8 @@ struct DynamicsWorkspace {
   Eigen::VectorXd dv;             ///< 3|V| velocity change (PCG warm start)
   Eigen::VectorXd work;           ///< 3|V| scratch (residual, permuted vectors)
   std::vector<char> constrained;  ///< |V| flags of velocity-constrained vertices
+  std::vector<Mat3> saved_rows;   ///< constrained rows' blocks A(i, j) before elimination
+  std::vector<Vec3> saved_rhs;    ///< constrained rows' right-hand sides before elimination
   // Direct solver: the system's upper triangle in fill-reducing order.
   bool ldlt_ready{false};
   std::vector<int> ldlt_col_start;  ///< 3|V|+1
@@ -28,5 +32,18 @@ struct DynamicsWorkspace {
   bool pcg_ready{false};
   BlockPcg pcg;
 };
+
+/// First half of solve_velocities: sizes `ws` for `model` (first step only) and assembles the
+/// implicit step's system A·Δv = b into ws.blocks and ws.rhs, with the constrained unknowns
+/// eliminated. Exposed so that benchmarks can time assembly and solve separately.
+void assemble_system(const ClothModel& model, const ClothState& state, double h,
+                     const Vec3& gravity, std::span<const VelocityConstraint> constraints,
+                     DynamicsWorkspace& ws);
+
+/// Second half of solve_velocities: solves the assembled system into ws.dv (PCG warm-started
+/// from the Δv already in ws.dv, or LDLT, per model.solver). On failure ws.dv is zeroed.
+DynamicsReport solve_system(const ClothModel& model,
+                            std::span<const VelocityConstraint> constraints,
+                            DynamicsWorkspace& ws);
 
 }  // namespace dexcloth::cloth

@@ -25,8 +25,17 @@ enum class LinearSolver {
 /// Settings of the implicit step's linear solve.
 struct SolverSettings {
   LinearSolver linear_solver{LinearSolver::pcg};
-  double tolerance{1e-8};    ///< relative residual ‖AΔv − b‖/‖b‖ accepted [-]
+  /// Relative residual ‖AΔv − b‖/‖b‖ accepted [-]. 1e-5 by measurement: against exact (LDLT)
+  /// solves, 50 steps of a falling 11×11 sheet deviate by 8e-5 of the displacement at 1e-5
+  /// (1e-5 at 1e-6, 6e-3 at 1e-4), a hanging strip's sag agrees to 7 digits and damped energy
+  /// still decays monotonically, for 27–41 % fewer PCG iterations than 1e-8. Tests that check
+  /// conservation to rounding set their own tolerance (or use ldlt).
+  double tolerance{1e-5};
   int max_iterations{2000};  ///< PCG iteration cap
+  /// OpenMP threads for the PCG vector work on large systems (≥ 512 vertices); the result is
+  /// bitwise the same for any value. 1 by default: on a machine shared with other jobs, the
+  /// per-iteration fork/join of several threads was measured 5–20× slower than one thread.
+  int threads{1};
 };
 
 /// Immutable cloth model.

@@ -34,6 +34,9 @@ struct ClothState {
   Points x;      ///< |V|×3 positions [m]
   Points v;      ///< |V|×3 velocities [m/s]
   Points f_ext;  ///< |V|×3 extra forces [N] added by the dynamics each step; caller-owned
+  /// |V|×3 impulse [N·s] each velocity constraint applied in the last solve (zero for free
+  /// vertices): what holding the vertex at its prescribed velocity took, e.g. from friction.
+  Points constraint_impulse;
   DynamicsScratch scratch;  ///< solver buffers
 };
 

@@ -70,6 +70,17 @@ TEST(Dynamics, HangingStripReachesAnalyticElongation) {
     for (const VelocityConstraint& c : handles) {
       EXPECT_EQ(state.x.row(c.vertex), mesh.x.row(c.vertex));
     }
+    // At rest the handles carry the strip: their impulses (on the strip, upward) add up to its
+    // weight times h (the settled residual motion is < 1e-6 m/s, so 1e-4 relative is ample);
+    // nothing else is constrained.
+    Vec3 held = Vec3::Zero();
+    for (const VelocityConstraint& c : handles) held += state.constraint_impulse.row(c.vertex).transpose();
+    const double weight_impulse = model.mass.sum() * g * kStep;
+    EXPECT_NEAR(held.y(), weight_impulse, 1e-4 * weight_impulse);
+    EXPECT_NEAR(held.x(), 0.0, 1e-4 * weight_impulse);
+    double on_handles = 0.0;
+    for (const VelocityConstraint& c : handles) on_handles += state.constraint_impulse.row(c.vertex).cwiseAbs().sum();
+    EXPECT_NEAR(state.constraint_impulse.cwiseAbs().sum(), on_handles, 1e-12 * on_handles);
   }
 }
 
@@ -159,6 +170,29 @@ TEST(Dynamics, ConjugateGradientAgreesWithDirectSolver) {
   EXPECT_LE((direct.state.v - iterative.state.v).norm(), 1e-6 * direct.state.v.norm());
 }
 
+TEST(Dynamics, DefaultToleranceTracksTheDirectSolver) {
+  // The default PCG tolerance (1e-5 relative residual) against exact solves, over 50 steps of a
+  // perturbed sheet with two handles falling under gravity: the trajectories agree to 1e-3 of
+  // the displacement (measured 8e-5; a tolerance of 1e-4 gives 6e-3 and fails).
+  PerturbedSheet direct = perturbed_sheet(9);
+  PerturbedSheet iterative = perturbed_sheet(9);
+  direct.model.solver.linear_solver = LinearSolver::ldlt;
+  ASSERT_EQ(iterative.model.solver.linear_solver, LinearSolver::pcg);
+  ASSERT_EQ(iterative.model.solver.tolerance, 1e-5);
+  const Points x0 = direct.state.x;
+  const std::vector<VelocityConstraint> handles = {{0, Vec3::Zero()}, {10, Vec3::Zero()}};
+  for (int n = 0; n < 50; ++n) {
+    ASSERT_TRUE(step_dynamics(direct.model, direct.state, kStep, Vec3(0, 0, -9.81), handles).ok);
+    const DynamicsReport r =
+        step_dynamics(iterative.model, iterative.state, kStep, Vec3(0, 0, -9.81), handles);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_LE(r.residual, 1e-5);
+  }
+  const double displacement = (direct.state.x - x0).cwiseAbs().maxCoeff();
+  ASSERT_GT(displacement, 1e-2);  // the sheet did fall
+  EXPECT_LE((direct.state.x - iterative.state.x).cwiseAbs().maxCoeff(), 1e-3 * displacement);
+}
+
 TEST(Dynamics, NumericalTroubleIsReportedNotFatal) {
   PerturbedSheet s = perturbed_sheet(4);
   const Points v0 = s.state.v, x0 = s.state.x;
@@ -182,6 +216,7 @@ TEST(Dynamics, NonConvergedConjugateGradientFallsBackToDirectSolver) {
   PerturbedSheet direct = perturbed_sheet(6);
   PerturbedSheet capped = perturbed_sheet(6);
   direct.model.solver.linear_solver = LinearSolver::ldlt;
+  capped.model.solver.tolerance = 1e-8;
   capped.model.solver.max_iterations = 2;  // PCG cannot reach 1e-8 in 2 iterations
   const std::vector<VelocityConstraint> none;
   ASSERT_TRUE(solve_velocities(direct.model, direct.state, kStep, Vec3(0, 0, -9.81), none).ok);

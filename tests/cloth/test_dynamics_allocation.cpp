@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <utility>
 #include <vector>
 
 #include "cloth/dynamics.hpp"
@@ -38,12 +39,15 @@ using namespace dexcloth;
 using namespace dexcloth::cloth;
 
 TEST(DynamicsAllocation, StepsAfterTheFirstDoNotAllocate) {
-  for (LinearSolver solver : {LinearSolver::ldlt, LinearSolver::pcg}) {
-    const ClothMesh mesh = make_grid(0.3, 0.3, 12, 12);
+  // 12×12 runs single-threaded; 40×40 with two threads takes the parallel (OpenMP) PCG path.
+  for (const auto& [solver, n] : {std::pair{LinearSolver::ldlt, 12}, std::pair{LinearSolver::pcg, 12},
+                                  std::pair{LinearSolver::pcg, 40}}) {
+    const ClothMesh mesh = make_grid(0.3, 0.3, n, n);
     ClothModel model = build_model(mesh, Material{});
     model.solver.linear_solver = solver;
+    model.solver.threads = 2;
     ClothState state = make_state(model, mesh.x);
-    const std::vector<VelocityConstraint> handles = {{0, Vec3::Zero()}, {11, Vec3(0, 0, 0.05)}};
+    const std::vector<VelocityConstraint> handles = {{0, Vec3::Zero()}, {n - 1, Vec3(0, 0, 0.05)}};
     ASSERT_TRUE(step_dynamics(model, state, 0.005, Vec3(0, 0, -9.81), handles).ok);
     const long before = g_allocations;
     bool ok = true;
@@ -51,7 +55,7 @@ TEST(DynamicsAllocation, StepsAfterTheFirstDoNotAllocate) {
       ok = step_dynamics(model, state, 0.005, Vec3(0, 0, -9.81), handles).ok && ok;
     const long allocations = g_allocations - before;
     EXPECT_TRUE(ok);
-    EXPECT_EQ(allocations, 0) << "solver " << static_cast<int>(solver);
+    EXPECT_EQ(allocations, 0) << "solver " << static_cast<int>(solver) << ", " << n << "×" << n;
     // The counter works: building a model allocates.
     const long probe = g_allocations;
     const ClothModel other = build_model(mesh, Material{});
