@@ -12,6 +12,10 @@ namespace {
 
 enum class Kind { VertexFace, EdgeEdge };
 
+// Smallest |n·ĝ0| (cosine between the geometric normal and the start gap) for which the
+// geometric normal is reported; below it the start gap's direction is [-].
+constexpr double kMinNormalAlignment = 0.2;
+
 Corners at_time(const Corners& x0, const Corners& x1, double t) {
   Corners x;
   for (std::size_t k = 0; k < 4; ++k) x[k] = t == 1.0 ? x1[k] : x0[k] + t * (x1[k] - x0[k]);
@@ -97,6 +101,18 @@ void crossing_candidates(const Corners& x0, const Corners& x1, std::size_t ia, s
 }
 
 std::optional<CcdHit> ccd(Kind kind, const Corners& x0, const Corners& x1, double tolerance) {
+  // Conservative early out: the distance can shrink no faster than the largest relative
+  // displacement M of a corner of one primitive against a corner of the other, so pairs farther
+  // apart than M + tolerance at the start cannot touch (the common case: a sheet moving
+  // almost rigidly past its own neighbouring primitives).
+  const std::size_t split = kind == Kind::VertexFace ? 1 : 2;
+  double reach = 0.0;
+  for (std::size_t i = 0; i < split; ++i)
+    for (std::size_t j = split; j < 4; ++j)
+      reach = std::max(reach, ((x1[i] - x0[i]) - (x1[j] - x0[j])).squaredNorm());
+  reach = std::sqrt(reach) + tolerance;
+  if (gap(closest_weights(kind, x0), x0).squaredNorm() > reach * reach) return std::nullopt;
+
   // Origin corner and the three relative vectors whose determinant is the coplanarity cubic.
   const std::size_t o = kind == Kind::VertexFace ? 1 : 0;
   const std::array<std::size_t, 3> rel = kind == Kind::VertexFace
@@ -169,6 +185,15 @@ std::optional<CcdHit> ccd(Kind kind, const Corners& x0, const Corners& x1, doubl
     const double s0 = n.dot(g0);
     const double s = std::abs(s0) > 1e-14 * scale ? s0 : n.dot(g1);
     hit.normal = s < 0.0 ? Vec3(-n) : n;
+    // A geometric normal nearly perpendicular to the start gap does not say which side the pair
+    // came from: the primitives approached within its plane (a vertex meeting an edge, edges
+    // meeting end-on in a common plane, in-plane motion). Its sign is then round-off, and two
+    // such constraints on one vertex can demand opposite moves. The start gap's direction is
+    // the separating direction of such lower-dimensional contacts; every constraint then holds
+    // at x0 with a clear margin. (A pair starting within the tolerance has no such direction.)
+    const double g0_norm = g0.norm();
+    if (g0_norm > 2.0 * tolerance && std::abs(s0) < kMinNormalAlignment * g0_norm)
+      hit.normal = g0 / g0_norm;
     return hit;
   }
   return std::nullopt;

@@ -6,29 +6,18 @@ namespace dexcloth::collision {
 
 namespace {
 
-// Box of a set of vertices over x0 (and x1 when swept), inflated by margin.
-struct Box {
-  Vec3 lo, hi;
-};
-
-template <int N>
-Box vertex_box(const CollisionMesh& m, const std::array<int, N>& v, bool swept, double margin) {
-  Box b{m.x0.row(v[0]).transpose(), m.x0.row(v[0]).transpose()};
-  for (int k = 0; k < N; ++k) {
-    b.lo = b.lo.cwiseMin(m.x0.row(v[static_cast<std::size_t>(k)]).transpose());
-    b.hi = b.hi.cwiseMax(m.x0.row(v[static_cast<std::size_t>(k)]).transpose());
-    if (swept) {
-      b.lo = b.lo.cwiseMin(m.x1.row(v[static_cast<std::size_t>(k)]).transpose());
-      b.hi = b.hi.cwiseMax(m.x1.row(v[static_cast<std::size_t>(k)]).transpose());
-    }
-  }
-  b.lo.array() -= margin;
-  b.hi.array() += margin;
-  return b;
+bool overlap(const PrimitiveBox& a, const PrimitiveBox& b) {
+  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
+         a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
 }
 
-bool overlap(const Box& a, const Box& b) {
-  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
+PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
+  PrimitiveBox m;
+  for (int d = 0; d < 3; ++d) {
+    m.lo[d] = std::min(a.lo[d], b.lo[d]);
+    m.hi[d] = std::max(a.hi[d], b.hi[d]);
+  }
+  return m;
 }
 
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
@@ -59,19 +48,39 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       m_bvh[m].refit(mesh.faces, mesh.x0, x1, margin);
     }
   }
+  // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
+  m_vertex_boxes.resize(nm);
+  m_edge_boxes.resize(nm);
+  for (std::size_t m = 0; m < nm; ++m) {
+    const CollisionMesh& mesh = *meshes[m];
+    const Points& x1 = swept ? mesh.x1 : mesh.x0;
+    std::vector<PrimitiveBox>& vb = m_vertex_boxes[m];
+    vb.resize(static_cast<std::size_t>(mesh.x0.rows()));
+    for (Eigen::Index v = 0; v < mesh.x0.rows(); ++v) {
+      PrimitiveBox& b = vb[static_cast<std::size_t>(v)];
+      for (int d = 0; d < 3; ++d) {
+        b.lo[d] = std::min(mesh.x0(v, d), x1(v, d)) - margin;
+        b.hi[d] = std::max(mesh.x0(v, d), x1(v, d)) + margin;
+      }
+    }
+    const std::vector<std::array<int, 2>>& edges = m_topology[m].edges;
+    std::vector<PrimitiveBox>& eb = m_edge_boxes[m];
+    eb.resize(edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])], vb[static_cast<std::size_t>(edges[e][1])]);
+  }
   // Primitive pairs of every relevant mesh pair.
   m_vf.clear();
   m_ee.clear();
   for (std::size_t a = 0; a < nm; ++a) {
     for (std::size_t b = a; b < nm; ++b) {
       if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
-      collect(meshes, static_cast<int>(a), static_cast<int>(b), swept, margin);
+      collect(meshes, static_cast<int>(a), static_cast<int>(b));
     }
   }
 }
 
-void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb,
-                                  bool swept, double margin) {
+void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb) {
   const CollisionMesh& A = *meshes[static_cast<std::size_t>(ma)];
   const CollisionMesh& B = *meshes[static_cast<std::size_t>(mb)];
   const MeshTopology& ta = m_topology[static_cast<std::size_t>(ma)];
@@ -81,25 +90,34 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   if (self) self_overlapping_faces(m_bvh[static_cast<std::size_t>(ma)], A.faces, false, m_face_pairs);
   else overlapping_faces(m_bvh[static_cast<std::size_t>(ma)], m_bvh[static_cast<std::size_t>(mb)], m_face_pairs);
 
+  const std::vector<PrimitiveBox>& vba = m_vertex_boxes[static_cast<std::size_t>(ma)];
+  const std::vector<PrimitiveBox>& vbb = m_vertex_boxes[static_cast<std::size_t>(mb)];
+  const std::vector<PrimitiveBox>& eba = m_edge_boxes[static_cast<std::size_t>(ma)];
+  const std::vector<PrimitiveBox>& ebb = m_edge_boxes[static_cast<std::size_t>(mb)];
+
   // Owned vertex of one face against the other face, unless it is one of that face's corners.
-  auto vertex_face = [&](const CollisionMesh& vm, const MeshTopology& vt, int vmi, int fv,
-                         const CollisionMesh& fm, int fmi, int ff) {
+  auto vertex_face = [&](const CollisionMesh& vm, const MeshTopology& vt,
+                         const std::vector<PrimitiveBox>& vb, int vmi, int fv,
+                         const CollisionMesh& fm, const std::vector<PrimitiveBox>& fb, int fmi,
+                         int ff) {
     const std::uint8_t owned = vt.owned_vertices[static_cast<std::size_t>(fv)];
     if (owned == 0) return;
     const std::array<int, 3> face{fm.faces(ff, 0), fm.faces(ff, 1), fm.faces(ff, 2)};
-    const Box fbox = vertex_box<3>(fm, face, swept, margin);
+    const PrimitiveBox fbox = merge(merge(fb[static_cast<std::size_t>(face[0])],
+                                          fb[static_cast<std::size_t>(face[1])]),
+                                    fb[static_cast<std::size_t>(face[2])]);
     for (int k = 0; k < 3; ++k) {
       if ((owned & (1u << k)) == 0) continue;
       const int v = vm.faces(fv, k);
       if (self && (v == face[0] || v == face[1] || v == face[2])) continue;
-      if (!overlap(vertex_box<1>(vm, {v}, swept, margin), fbox)) continue;
+      if (!overlap(vb[static_cast<std::size_t>(v)], fbox)) continue;
       m_vf.push_back({vmi, v, fmi, ff});
     }
   };
 
   for (const FacePair& fp : m_face_pairs) {
-    vertex_face(A, ta, ma, fp.a, B, mb, fp.b);
-    vertex_face(B, tb, mb, fp.b, A, ma, fp.a);
+    vertex_face(A, ta, vba, ma, fp.a, B, vbb, mb, fp.b);
+    vertex_face(B, tb, vbb, mb, fp.b, A, vba, ma, fp.a);
     // Owned edges of one face against owned edges of the other.
     const std::uint8_t oa = ta.owned_edges[static_cast<std::size_t>(fp.a)];
     const std::uint8_t ob = tb.owned_edges[static_cast<std::size_t>(fp.b)];
@@ -108,13 +126,12 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
       if ((oa & (1u << i)) == 0) continue;
       const int ea = ta.face_edges[static_cast<std::size_t>(fp.a)][static_cast<std::size_t>(i)];
       const std::array<int, 2>& va = ta.edges[static_cast<std::size_t>(ea)];
-      const Box abox = vertex_box<2>(A, va, swept, margin);
+      const PrimitiveBox& abox = eba[static_cast<std::size_t>(ea)];
       for (int j = 0; j < 3; ++j) {
         if ((ob & (1u << j)) == 0) continue;
         const int eb = tb.face_edges[static_cast<std::size_t>(fp.b)][static_cast<std::size_t>(j)];
-        const std::array<int, 2>& vb = tb.edges[static_cast<std::size_t>(eb)];
-        if (self && shares_vertex(va, vb)) continue;
-        if (!overlap(abox, vertex_box<2>(B, vb, swept, margin))) continue;
+        if (self && shares_vertex(va, tb.edges[static_cast<std::size_t>(eb)])) continue;
+        if (!overlap(abox, ebb[static_cast<std::size_t>(eb)])) continue;
         m_ee.push_back({ma, ea, mb, eb});
       }
     }

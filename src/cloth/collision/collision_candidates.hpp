@@ -26,6 +26,12 @@ struct EdgeEdgePair {
   int edge_b{};
 };
 
+/// Axis-aligned box of a primitive's motion, inflated by the broad phase's margin [m].
+struct PrimitiveBox {
+  double lo[3]{};
+  double hi[3]{};
+};
+
 /// BVHs, topology and candidate primitive pairs of a collision scene. Keep one per simulation:
 /// trees are built on first use (and when a mesh's vertex or face count changes) and refit after.
 class CollisionCandidates {
@@ -47,11 +53,12 @@ class CollisionCandidates {
   const MeshTopology& topology(int m) const { return m_topology[static_cast<std::size_t>(m)]; }
 
  private:
-  void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb, bool swept,
-               double margin);
+  void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb);
 
   std::vector<MeshTopology> m_topology;
   std::vector<Bvh> m_bvh;
+  std::vector<std::vector<PrimitiveBox>> m_vertex_boxes;  // per mesh, per vertex
+  std::vector<std::vector<PrimitiveBox>> m_edge_boxes;    // per mesh, per topology edge
   std::vector<FacePair> m_face_pairs;
   std::vector<VertexFacePair> m_vf;
   std::vector<EdgeEdgePair> m_ee;

@@ -58,6 +58,20 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
     impact.w = hit->w;
     impact.normal = hit->normal;
     impact.t = hit->t;
+    // Separation to enforce: the offset, but never more than the pair had at the start of the
+    // step (movable corners at x0, fixed ones where they must end), so that the start state
+    // satisfies every constraint and each zone's projection is feasible; at least a little more
+    // than the CCD tolerance, so a resolved pair is not detected again.
+    double start = 0.0;
+    for (std::size_t k = 0; k < 4; ++k)
+      start += hit->w[static_cast<Eigen::Index>(k)] *
+               impact.normal.dot(impact.corner[k].inv_mass > 0.0 ? c0[k] : c1[k]);
+    impact.target = std::min(options.offset, std::max(start, 10.0 * options.ccd_tolerance));
+    // Violation a converged projection may leave: a fraction of the offset, but never so much
+    // that the pair ends within the CCD tolerance.
+    impact.slack = std::max(std::min(options.violation_tolerance * options.offset,
+                                     0.5 * (impact.target - options.ccd_tolerance)),
+                            options.violation_tolerance * impact.target);
     m_impacts.push_back(impact);
   };
 
@@ -76,21 +90,21 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
 
 bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
                                const std::vector<int>& impacts, const ImpactZoneOptions& options) {
-  // Gauss–Seidel on the dual of min Σ m‖x − x̂‖²/2 s.t. c_j(x) = n·Σ w x − offset ≥ 0, λ ≥ 0.
-  const double tolerance = options.violation_tolerance * options.offset;
+  // Gauss–Seidel on the dual of min Σ m‖x − x̂‖²/2 s.t. c_j(x) = n·Σ w x − target_j ≥ 0, λ ≥ 0;
+  // converged when no constraint is violated by more than its slack.
   for (const int i : impacts) m_impacts[static_cast<std::size_t>(i)].lambda = 0.0;
   for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
     double worst = 0.0;
     for (const int i : impacts) {
       Impact& im = m_impacts[static_cast<std::size_t>(i)];
-      double c = -options.offset, k_eff = 0.0;
+      double c = -im.target, k_eff = 0.0;
       for (std::size_t k = 0; k < 4; ++k) {
         const Corner& cr = im.corner[k];
         const double w = im.w[static_cast<Eigen::Index>(k)];
         c += w * im.normal.dot(x1_of(*meshes[static_cast<std::size_t>(cr.mesh)], cr.vertex));
         k_eff += w * w * cr.inv_mass;
       }
-      worst = std::max(worst, -c);
+      worst = std::max(worst, -c / im.slack);
       if (k_eff == 0.0) continue;
       const double dl = std::max(-im.lambda, -c / k_eff);
       if (dl == 0.0) continue;
@@ -102,7 +116,7 @@ bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
             (cr.inv_mass * im.w[static_cast<Eigen::Index>(k)] * dl * im.normal).transpose();
       }
     }
-    if (worst <= tolerance) return true;
+    if (worst <= 1.0) return true;
   }
   return false;
 }

@@ -17,13 +17,16 @@ namespace dexcloth::collision {
 /// Settings of impact-zone resolution.
 struct ImpactZoneOptions {
   double offset{1.5e-4};        ///< separation along each impact's normal that projection
-                                ///< enforces at x1 [m] (a few % of the 5 mm thickness)
+                                ///< enforces at x1 [m] (a few % of the 5 mm thickness); a pair
+                                ///< that starts closer keeps its start separation instead
+                                ///< (at least 10·ccd_tolerance), so the start state is feasible
   double ccd_tolerance{1e-6};   ///< distance at which CCD reports contact [m]
   int max_iterations{40};       ///< detect–respond rounds; past half of them zones move rigidly,
                                 ///< past three quarters they stay at x0
   int max_sweeps{1000};         ///< Gauss–Seidel sweeps of one zone's projection
   double violation_tolerance{0.05};  ///< a projection has converged when no constraint is
-                                     ///< violated by more than this fraction of `offset`
+                                     ///< violated by more than this fraction of `offset` (and
+                                     ///< every pair stays beyond `ccd_tolerance`)
 };
 
 /// What `ImpactZoneSolver::resolve` did.
@@ -44,7 +47,8 @@ class ImpactZoneSolver {
   /// vertex–face or edge–edge pair collides on the linear motion x0 → x1. Each round: CCD on all
   /// candidate pairs; new impacts join zones (union of the movable vertices they involve); each
   /// zone with new impacts is projected: min Σ m_i‖x_i − x̂_i‖² subject to n·Σ w_k x_k ≥ offset for
-  /// all its impacts (normal n and weights w fixed at detection), by Gauss–Seidel on the dual
+  /// all its impacts (normal n and weights w fixed at detection, offset capped by the start
+  /// separation as `ImpactZoneOptions::offset` says), by Gauss–Seidel on the dual
   /// (λ ≥ 0). A zone whose projection does not converge moves rigidly with its mass-weighted
   /// linear and angular velocity (Bridson et al. 2002); a rigid zone hit again stays at x0. Never
   /// aborts; every fallback and any impact left after `max_iterations` is reported in warnings.
@@ -63,6 +67,8 @@ class ImpactZoneSolver {
     Eigen::Vector4d w{Eigen::Vector4d::Zero()};
     Vec3 normal{Vec3::Zero()};
     double t{};
+    double target{};  // separation n·Σ w x the projection enforces [m]
+    double slack{};   // violation of the target a converged projection may leave [m]
     double lambda{};
   };
 

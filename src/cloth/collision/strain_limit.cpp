@@ -1,6 +1,7 @@
 #include "cloth/collision/strain_limit.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 #include <Eigen/SVD>
@@ -62,6 +63,15 @@ StrainLimitReport limit_strain(Points& x, const Triangles& faces, const std::vec
       ds.col(1) = p[2] - p[0];
       const Mat2& dmi = dm_inv[static_cast<std::size_t>(f)];
       const Mat32 def = ds * dmi;
+      // Singular values in closed form from FᵀF; the SVD only for triangles out of bounds.
+      const Mat2 c = def.transpose() * def;
+      const double half_trace = 0.5 * (c(0, 0) + c(1, 1));
+      const double root = std::sqrt(std::max(0.25 * (c(0, 0) - c(1, 1)) * (c(0, 0) - c(1, 1)) + c(0, 1) * c(0, 1), 0.0));
+      const double s_max = std::sqrt(half_trace + root);
+      const double s_min = std::sqrt(std::max(half_trace - root, 0.0));
+      // Inside the bounds by a margin that covers the closed form's round-off.
+      constexpr double kSafe = 1e-9;
+      if (s_min >= options.min_stretch + kSafe && s_max <= options.max_stretch - kSafe) continue;
       const Eigen::JacobiSVD<Mat32> svd(def, Eigen::ComputeFullU | Eigen::ComputeFullV);
       const Vec2 s = svd.singularValues();
       const Vec2 clamped = s.cwiseMax(options.min_stretch).cwiseMin(options.max_stretch);

@@ -173,3 +173,19 @@ TEST(EdgeEdgeCcd, CollinearEdgesSlidingTogetherMeetAtKnownTime) {
   ASSERT_TRUE(hit.has_value());
   EXPECT_NEAR(hit->t, 2.0 / 3.0, 1e-9);
 }
+
+TEST(EdgeEdgeCcd, EdgesMeetingEndOnInTheirCommonPlaneGetTheApproachNormal) {
+  // A cloth edge along y at the pole of a tessellated sphere drops onto a meridian edge below it;
+  // both stay in the plane x = 0 and touch where the cloth edge's end meets the meridian. Their
+  // cross product is ±x, perpendicular to the approach, with a sign set by round-off: the normal
+  // must be the direction the pair came from (+z), which every other contact there agrees with.
+  const Vec3 pole(0, 0, 0), ring(0, 0.1, -0.02);
+  const Corners x0{Vec3(0, 0.025, 0.003), Vec3(0, 0.05, 0.003), pole, ring};
+  const Corners x1{Vec3(0, 0.025, -0.007), Vec3(0, 0.05, -0.007), pole, ring};
+  const auto hit = edge_edge_ccd(x0, x1, kTol);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->t, 0.8, 1e-6);  // the end at y = 0.025 reaches z = −0.005 at t = 0.8
+  EXPECT_NEAR(hit->w[0], 1.0, 1e-9);
+  EXPECT_NEAR(hit->normal.x(), 0.0, 1e-9);
+  EXPECT_GT(hit->normal.z(), 0.9);
+}
