@@ -1,6 +1,7 @@
 #include "coupling/contact_forces.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "coupling/friction_ncp.hpp"
@@ -59,44 +60,91 @@ void assign_normal_forces(int cloth_meshes, double reach, WorldData& data) {
   std::vector<ContactGroup>& groups = data.interface.groups;
   const RigidSide& rigid = data.rigid;
   if (!rigid.world) return;
+  InterfaceScratch& s = data.interface;
   const rigid::PatchPool& pool = rigid.world->patches();
-  const auto is_patch = [&](rigid::BodyId b) {
+  const auto patch_index = [&](rigid::BodyId b) {
     for (int p = 0; p < pool.capacity(); ++p)
-      if (pool.active(p) && pool.body(p).index == b.index) return true;
-    return false;
+      if (pool.active(p) && pool.body(p).index == b.index) return p;
+    return -1;
   };
-  // Count, per (body mesh, contact), how many vertices take it.
-  std::vector<std::vector<int>>& takers = data.interface.takers;
-  takers.resize(rigid.meshes.size());
-  for (std::size_t m = 0; m < rigid.meshes.size(); ++m)
-    takers[m].assign(rigid.world->contacts(rigid.mesh_body[m]).size(), 0);
+  // The patch (placed at the end of the last step, pool slot = index in data.patches) that holds
+  // each cloth vertex.
+  s.patch_of.resize(static_cast<std::size_t>(cloth_meshes));
+  for (int c = 0; c < cloth_meshes; ++c)
+    s.patch_of[static_cast<std::size_t>(c)].assign(
+        static_cast<std::size_t>(data.meshes[static_cast<std::size_t>(c)].x0.rows()), -1);
+  const int placed = std::min(pool.capacity(), static_cast<int>(data.patches.size()));
+  for (int p = 0; p < placed; ++p) {
+    const RigidPatch& patch = data.patches[static_cast<std::size_t>(p)];
+    if (!pool.active(p) || patch.cloth < 0 || patch.cloth >= cloth_meshes) continue;
+    for (int i : patch.vertices) s.patch_of[static_cast<std::size_t>(patch.cloth)][static_cast<std::size_t>(i)] = p;
+  }
+  // Per body mesh: the resultant normal force of its contacts with each patch, and per contact.
+  s.takers.resize(rigid.meshes.size());
+  s.patch_force.resize(rigid.meshes.size());
+  s.patch_takers.resize(rigid.meshes.size());
+  for (std::size_t m = 0; m < rigid.meshes.size(); ++m) {
+    const auto& contacts = rigid.world->contacts(rigid.mesh_body[m]);
+    s.takers[m].assign(contacts.size(), 0);
+    s.patch_force[m].assign(static_cast<std::size_t>(pool.capacity()), 0.0);
+    s.patch_takers[m].assign(static_cast<std::size_t>(pool.capacity()), 0);
+    for (const rigid::ContactPoint& c : contacts) {
+      const int p = patch_index(c.other);
+      if (p >= 0) s.patch_force[m][static_cast<std::size_t>(p)] += c.f_n;
+    }
+  }
   for (ContactGroup& g : groups) {
     const int m = g.other_mesh - cloth_meshes;
     if (m < 0) continue;
-    const auto& contacts = rigid.world->contacts(rigid.mesh_body[static_cast<std::size_t>(m)]);
+    const auto mi = static_cast<std::size_t>(m);
+    // The vertex's own patch pressed on this body: share that contact's resultant.
+    const int p = s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)];
+    if (p >= 0 && s.patch_force[mi][static_cast<std::size_t>(p)] > 0.0) {
+      g.rigid_patch = p;
+      ++s.patch_takers[mi][static_cast<std::size_t>(p)];
+      continue;
+    }
+    // Otherwise the nearest contact point between this body and any patch.
+    const auto& contacts = rigid.world->contacts(rigid.mesh_body[mi]);
     const Vec3 x = data.meshes[static_cast<std::size_t>(g.cloth)].x0.row(g.vertex).transpose();
     double best = reach;
     for (std::size_t c = 0; c < contacts.size(); ++c) {
       const double d = (contacts[c].p_W - x).norm();
-      if (d < best && contacts[c].f_n > 0.0 && is_patch(contacts[c].other)) {
+      if (d < best && contacts[c].f_n > 0.0 && patch_index(contacts[c].other) >= 0) {
         best = d;
         g.rigid_contact = static_cast<int>(c);
       }
     }
-    if (g.rigid_contact >= 0) ++takers[static_cast<std::size_t>(m)][static_cast<std::size_t>(g.rigid_contact)];
+    if (g.rigid_contact >= 0) ++s.takers[mi][static_cast<std::size_t>(g.rigid_contact)];
   }
-  // Each contact's normal force is shared among the vertices that took it.
+  // Each contact's (or patch contact's) normal force is shared among the vertices that took it.
+  // The force acts along DART's contact normal, so that normal (turned toward the vertex) is the
+  // group's: the friction plane is the one orthogonal to fN. The proximity records' normals tilt
+  // near mesh edges and would give the two jaws of a pinch non-parallel planes.
   for (ContactGroup& g : groups) {
-    if (g.rigid_contact < 0) continue;
     const auto m = static_cast<std::size_t>(g.other_mesh - cloth_meshes);
-    const auto& c = rigid.world->contacts(rigid.mesh_body[m])[static_cast<std::size_t>(g.rigid_contact)];
-    g.normal_force = c.f_n / takers[m][static_cast<std::size_t>(g.rigid_contact)];
+    const auto& contacts = rigid.world->contacts(rigid.mesh_body[m]);
+    Vec3 n = Vec3::Zero();
+    if (g.rigid_patch >= 0) {
+      const auto p = static_cast<std::size_t>(g.rigid_patch);
+      g.normal_force = s.patch_force[m][p] / s.patch_takers[m][p];
+      for (const rigid::ContactPoint& c : contacts)
+        if (patch_index(c.other) == g.rigid_patch) n += c.f_n * c.n_W;
+    } else if (g.rigid_contact >= 0) {
+      const auto c = static_cast<std::size_t>(g.rigid_contact);
+      g.normal_force = contacts[c].f_n / s.takers[m][c];
+      n = contacts[c].n_W;
+    }
+    if (n.norm() > 0.0) g.normal = n.dot(g.normal) >= 0.0 ? Vec3(n.normalized()) : Vec3(-n.normalized());
   }
 }
 
-int apply_friction(double h, WorldData& data) {
+int apply_friction(double h, double coplanar_deg, WorldData& data) {
+  const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
   const std::vector<ContactGroup>& groups = data.interface.groups;
   int frozen = 0;
+  // A vertex is held only while this step finds it in static friction.
+  for (FrictionHold& hold : data.holds) std::fill(hold.held.begin(), hold.held.end(), std::uint8_t{0});
   std::array<FrictionContact, kMaxVertexContacts> contacts;
   std::size_t g = 0;
   while (g < groups.size()) {
@@ -119,11 +167,14 @@ int apply_friction(double h, WorldData& data) {
       }
       const FrictionResult r = solve_friction(
           std::span<const FrictionContact>(contacts.data(), static_cast<std::size_t>(count)),
-          mesh.mass[i], h);
+          data.holds[static_cast<std::size_t>(groups[g].cloth)].mass[i], h, coplanar_sin);
       mesh.x1.row(i) += h * r.delta_v.transpose();
       // Static friction: a position constraint through the refinement steps (paper §3, §7.2).
       if (r.which == FrictionCase::static_at) {
         mesh.frozen[static_cast<std::size_t>(i)] = 1;
+        FrictionHold& hold = data.holds[static_cast<std::size_t>(groups[g].cloth)];
+        hold.held[static_cast<std::size_t>(i)] = 1;
+        hold.velocity.row(i) = (mesh.x1.row(i) - mesh.x0.row(i)) / h;
         ++frozen;
       }
       if (!r.ok)

@@ -16,12 +16,16 @@ void group_contacts(int cloth_meshes, double h, WorldData& data);
 /// Paper §4.1: a vertex touching a DART body takes the normal force of the nearest contact point
 /// between that body and a rigid cloth patch, shared among all vertices that took the same point;
 /// other groups keep the cloth simulator's repulsion force. Contacts farther than `reach` [m]
-/// from the vertex are not taken.
+/// from the vertex are not taken. A vertex of a patch pressed on that body takes the patch
+/// contact's resultant (the sum over DART's manifold points, whose split among the points is
+/// not determined by the LCP), shared among the patch's vertices touching the body. The group
+/// normal becomes DART's contact normal, the direction of fN.
 void assign_normal_forces(int cloth_meshes, double reach, WorldData& data);
 
 /// Paper §4.2 and §3: solves each vertex's friction NCP on the candidate velocity (x1 − x0)/h,
 /// moves x1 by h·Δv, and freezes (position-constrains) vertices in static friction. Returns the
-/// number of frozen vertices.
-int apply_friction(double h, WorldData& data);
+/// number of frozen vertices. Contact planes of one vertex within `coplanar_deg` of each other
+/// are one plane, as the vertices of one rigid cloth patch are (paper §5, δn).
+int apply_friction(double h, double coplanar_deg, WorldData& data);
 
 }  // namespace dexcloth::coupling

@@ -17,6 +17,7 @@ struct ContactGroup {
   double repulsion_force{};          ///< repulsion impulse / h [N]
   double normal_force{};             ///< fN used for friction [N]
   int rigid_contact{-1};             ///< DART contact taken (index into that body's contacts), or -1
+  int rigid_patch{-1};               ///< pool patch whose contact resultant is shared, or -1
 };
 
 /// Scratch of the interface, kept between steps so a step does not allocate.
@@ -25,6 +26,9 @@ struct InterfaceScratch {
   std::vector<int> order;
   std::vector<double> weight;
   std::vector<std::vector<int>> takers;  ///< per rigid mesh, per DART contact: vertices taking it
+  std::vector<std::vector<int>> patch_of;  ///< per cloth, per vertex: pool patch holding it, or −1
+  std::vector<std::vector<double>> patch_force;  ///< per rigid mesh, per pool patch: Σ f_n [N]
+  std::vector<std::vector<int>> patch_takers;    ///< per rigid mesh, per pool patch: vertices
 };
 
 }  // namespace dexcloth::coupling

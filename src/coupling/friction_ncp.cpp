@@ -24,6 +24,21 @@ Mat3 tangent_projector(const Vec3& n) {
   return Mat3::Identity() - nn * nn.transpose();
 }
 
+/// The common plane of the contacts, when every normal is within asin(max_sin) of ±n_0 (sandwich
+/// or same side): the sign-aligned mean normal. False otherwise (or with no contacts).
+bool common_normal(std::span<const FrictionContact> contacts, double max_sin, Vec3& n) {
+  if (contacts.empty()) return false;
+  const Vec3 n0 = contacts[0].normal.normalized();
+  n = Vec3::Zero();
+  for (const FrictionContact& c : contacts) {
+    const Vec3 ni = c.normal.normalized();
+    if (ni.cross(n0).norm() > max_sin) return false;
+    n += ni.dot(n0) >= 0.0 ? ni : Vec3(-ni);
+  }
+  n.normalize();
+  return true;
+}
+
 /// Tolerance of the checks, as a force [N].
 double force_scale(const Problem& p) {
   double s = 0.0;
@@ -155,7 +170,8 @@ bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts
 
 }  // namespace
 
-FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h) {
+FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h,
+                              double coplanar_sin) {
   DEXCLOTH_DEMAND(contacts.size() <= static_cast<std::size_t>(kMaxVertexContacts));
   DEXCLOTH_DEMAND(mass > 0.0 && h > 0.0);
   FrictionResult r;
@@ -163,8 +179,8 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
   p.count = static_cast<int>(contacts.size());
   p.a = mass / h;
   double capacity = 0.0;
-  bool parallel = true;
-  const Vec3 n0 = p.count > 0 ? contacts[0].normal.normalized() : Vec3::UnitZ();
+  Vec3 n0 = Vec3::UnitZ();
+  const bool parallel = common_normal(contacts, std::max(coplanar_sin, kParallelSin), n0);
   p.P = tangent_projector(n0);
   double max_speed = 0.0;
   for (int i = 0; i < p.count; ++i) {
@@ -172,7 +188,6 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
     capacity += p.c[i];
     p.u[i] = p.P * contacts[i].relative_velocity;
     max_speed = std::max(max_speed, p.u[i].norm());
-    parallel = parallel && contacts[i].normal.normalized().cross(n0).norm() <= 1e-6;
   }
   p.speed_eps = 1e-14 + 1e-12 * max_speed;
   if (capacity <= 0.0) return r;  // no friction: fT = 0
@@ -207,26 +222,29 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
     }
     if (!found) solve_general(contacts, p.a, &p.P, r);
   }
-  r.ok = friction_violation(contacts, mass, h, r) <= 1e-9 * force_scale(p);
+  r.ok = friction_violation(contacts, mass, h, r, coplanar_sin) <= 1e-9 * force_scale(p);
   return r;
 }
 
 double friction_violation(std::span<const FrictionContact> contacts, double mass, double h,
-                          const FrictionResult& r) {
+                          const FrictionResult& r, double coplanar_sin) {
   const double a = mass / h;
+  Vec3 common = Vec3::Zero();
+  const bool coplanar = common_normal(contacts, std::max(coplanar_sin, kParallelSin), common);
   Vec3 sum = Vec3::Zero();
   double worst = 0.0;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     const double c = contacts[i].mu * contacts[i].normal_force;
     const Vec3& f = r.force[i];
     sum += f;
-    const Vec3 w = tangent_projector(contacts[i].normal) * (contacts[i].relative_velocity + r.delta_v);
+    const Vec3 normal = coplanar ? common : Vec3(contacts[i].normal.normalized());
+    const Vec3 w = tangent_projector(normal) * (contacts[i].relative_velocity + r.delta_v);
     const double fn = f.norm();
     // Cone, complementarity (as a force), and a sliding force opposing the sliding.
     worst = std::max(worst, fn - c);
     worst = std::max(worst, std::abs(c - fn) * std::min(1.0, a * w.norm() / (c + 1e-300)));
     if (a * w.norm() > 1e-9 * (c + 1e-300)) worst = std::max(worst, (f + c * w.normalized()).norm());
-    worst = std::max(worst, std::abs(f.dot(contacts[i].normal.normalized())));
+    worst = std::max(worst, std::abs(f.dot(normal)));
   }
   return std::max(worst, (a * r.delta_v - sum).norm());
 }

@@ -43,18 +43,24 @@ struct FrictionResult {
   bool ok{true};               ///< every condition verified to tolerance
 };
 
+/// Normals closer than this (|n_i × n_0|) are parallel to rounding.
+inline constexpr double kParallelSin = 1e-6;
+
 /// Solves the friction NCP of one vertex. contacts.size() ≤ kMaxVertexContacts; mass > 0, h > 0.
-/// Contacts whose planes are parallel (sandwich or same side, |n_i × n_0| ≤ 1e-6) are solved
+/// Contacts whose planes are parallel (sandwich or same side, |n_i × n_0| ≤ max(coplanar_sin,
+/// kParallelSin)) share one plane, that of their sign-aligned mean normal, and are solved
 /// exactly by case enumeration: "static at k" for each k, ordered by the paper's heuristic
 /// μ‖fN‖ − m‖v_r‖/h, then "all dynamic" (Newton on the smooth convex function); each candidate is
 /// checked against the cone and complementarity before it is taken. Other configurations use block
 /// Gauss–Seidel on the dual, then the same check.
-FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h);
+FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h,
+                              double coplanar_sin = 0.0);
 
 /// Largest violation of the friction conditions by `result` (0 for an exact solution), as a force
 /// [N]: cone excess, complementarity (μ fN − ‖fT‖)·‖w‖·m/h, misalignment of a sliding force with
-/// −ŵ, and the momentum balance ‖(m/h)Δv − Σ fT‖. For tests and for the `ok` flag.
+/// −ŵ, and the momentum balance ‖(m/h)Δv − Σ fT‖, in the planes solve_friction used with the
+/// same `coplanar_sin`. For tests and for the `ok` flag.
 double friction_violation(std::span<const FrictionContact> contacts, double mass, double h,
-                          const FrictionResult& result);
+                          const FrictionResult& result, double coplanar_sin = 0.0);
 
 }  // namespace dexcloth::coupling

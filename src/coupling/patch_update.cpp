@@ -45,10 +45,15 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
                                      data.normals.row(i).transpose(), mesh.mass[i]});
     // Cluster (eqs. 9–11) and fit one thin box per cluster.
     const auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
-    const double thickness = 1.6 * model.thickness;
+    // The cloth keeps obstacles one repulsion thickness away on each side, so a patch as thick
+    // as 2 × thickness makes a pinch close to where the repulsion of both jaws is just met;
+    // thinner patches let the jaws in closer than the two repulsion layers, whose opposite
+    // targets cannot both be met and the cloth is squeezed out sideways.
+    const double thickness = 2.0 * model.thickness;
     for (const auto& cluster : clusters) {
       RigidPatch patch = build_patch(data.patch_vertices, cluster, thickness, 2.0 * model.thickness);
       for (int& k : patch.vertices) k = data.patch_vertex_ids[static_cast<std::size_t>(k)];
+      patch.cloth = c;
       data.patches.push_back(std::move(patch));
     }
   }

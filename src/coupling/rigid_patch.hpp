@@ -31,7 +31,8 @@ struct RigidPatch {
   double mass{};                   ///< sum of the vertex masses [kg]
   Vec3 linear_velocity{Vec3::Zero()};   ///< velocity of the box centre [m/s]
   Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
-  std::vector<int> vertices;       ///< indices into the builder's input
+  std::vector<int> vertices;       ///< indices into the builder's input (cloth vertices once placed)
+  int cloth{-1};                   ///< cloth mesh the vertices belong to, once placed
 };
 
 /// Groups vertices into clusters: i and j are joined (transitively) when all three paper

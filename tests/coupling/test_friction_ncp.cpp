@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -151,4 +152,24 @@ TEST(FrictionNcp, RandomCasesSatisfyConditionsAndAgreeWithGeneralSolver) {
   // The sample exercises both the static and the sliding cases.
   EXPECT_GT(counts[static_cast<int>(FrictionCase::static_at)], 100);
   EXPECT_GT(counts[static_cast<int>(FrictionCase::all_dynamic)], 100);
+}
+
+// A vertex pinched between two jaws whose DART normals differ by half a degree (patch face vs
+// jaw face), loaded at 40% of the total capacity: Coulomb says it sticks. With exact parallelism
+// the planes count as different and the Gauss–Seidel fallback cannot report static friction;
+// with a coplanar tolerance the case enumeration finds "static at" and checks it exactly.
+TEST(FrictionNcp, NearlyParallelSandwichSticksWithCoplanarTolerance) {
+  const double tilt = 0.5 * M_PI / 180.0;
+  const Vec3 v(0.0, 0.0, -0.4 * kH * 0.5 * (1.0 + 1.0) / kMass);  // m|v|/h = 0.4 μ(fN1 + fN2)
+  std::vector<FrictionContact> c = {{Vec3(0, 1, 0), 1.0, 0.5, v},
+                                    {Vec3(0, -std::cos(tilt), std::sin(tilt)), 1.0, 0.5, v}};
+  const FrictionResult exact = solve_friction(c, kMass, kH);
+  EXPECT_EQ(exact.which, FrictionCase::general);
+  const double coplanar = std::sin(2.0 * M_PI / 180.0);
+  const FrictionResult r = solve_friction(c, kMass, kH, coplanar);
+  EXPECT_EQ(r.which, FrictionCase::static_at);
+  EXPECT_TRUE(r.ok);
+  // What is left lies along the mean normal: |v| sin²(tilt/2) ≈ 2e-5 |v|.
+  EXPECT_NEAR((v + r.delta_v).z(), 0.0, 1e-4 * v.norm());
+  EXPECT_LE(friction_violation(c, kMass, kH, r, coplanar), 1e-9);
 }
