@@ -143,8 +143,6 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
   const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
   const std::vector<ContactGroup>& groups = data.interface.groups;
   int frozen = 0;
-  // A vertex is held only while this step finds it in static friction.
-  for (FrictionHold& hold : data.holds) std::fill(hold.held.begin(), hold.held.end(), std::uint8_t{0});
   std::array<FrictionContact, kMaxVertexContacts> contacts;
   std::size_t g = 0;
   while (g < groups.size()) {
@@ -167,14 +165,19 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       }
       const FrictionResult r = solve_friction(
           std::span<const FrictionContact>(contacts.data(), static_cast<std::size_t>(count)),
-          data.holds[static_cast<std::size_t>(groups[g].cloth)].mass[i], h, coplanar_sin);
+          mesh.mass[i], h, coplanar_sin);
       mesh.x1.row(i) += h * r.delta_v.transpose();
       // Static friction: a position constraint through the refinement steps (paper §3, §7.2).
-      if (r.which == FrictionCase::static_at) {
+      // Never freeze a vertex still closing on a surface: the impact zones must be free to stop
+      // it (a frozen vertex driven into an obstacle cannot be resolved).
+      bool closing = false;
+      const Vec3 v_new = v + r.delta_v;
+      for (int k = 0; k < count; ++k) {
+        const ContactGroup& cg = groups[g + static_cast<std::size_t>(k)];
+        closing = closing || (v_new - cg.other_velocity).dot(cg.normal) < 0.0;
+      }
+      if (r.which == FrictionCase::static_at && !closing) {
         mesh.frozen[static_cast<std::size_t>(i)] = 1;
-        FrictionHold& hold = data.holds[static_cast<std::size_t>(groups[g].cloth)];
-        hold.held[static_cast<std::size_t>(i)] = 1;
-        hold.velocity.row(i) = (mesh.x1.row(i) - mesh.x0.row(i)) / h;
         ++frozen;
       }
       if (!r.ok)

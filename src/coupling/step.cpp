@@ -49,33 +49,14 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
 }
 
 /// ClothDynamics (Algorithm 1): candidate velocities v̄ of every cloth, handles as constraints.
-/// Vertices held by static friction at the end of the last step are solved at their anchor's
-/// velocity too; each then leaves with v̄ = v_anchor − J/m_eff, J the impulse that held it and
-/// m_eff its effective mass in the implicit system: the velocity it takes if friction alone lets
-/// go, so the friction NCP (with m_eff) sees exactly the force that holds it in static
-/// equilibrium, not the load of a cloth that does not know it is held.
 void cloth_dynamics(const WorldModel& model, WorldData& data) {
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothBody& body = model.cloths[c];
     cloth::ClothState& state = data.cloths[c];
-    FrictionHold& hold = data.holds[c];
-    std::vector<cloth::VelocityConstraint>& constraints = data.scratch_constraints;
-    handle_constraints(body, state, data.time + model.dt, model.dt, constraints);
-    // Handle vertices are not friction-held (the handle's constraint decides them).
-    for (const cloth::VelocityConstraint& k : constraints) hold.held[static_cast<std::size_t>(k.vertex)] = 0;
-    const std::size_t handles = constraints.size();
-    for (std::size_t i = 0; i < hold.held.size(); ++i)
-      if (hold.held[i])
-        constraints.push_back({static_cast<int>(i), hold.velocity.row(static_cast<Eigen::Index>(i)).transpose()});
-    const cloth::DynamicsReport report =
-        cloth::solve_velocities(body.model, state, model.dt, model.gravity, constraints);
+    handle_constraints(body, state, data.time + model.dt, model.dt, data.scratch_constraints);
+    const cloth::DynamicsReport report = cloth::solve_velocities(
+        body.model, state, model.dt, model.gravity, data.scratch_constraints);
     if (!report.ok) data.warnings.add(data.step, body.name + ": " + report.message);
-    hold.mass = body.model.mass;
-    for (std::size_t k = handles; k < constraints.size(); ++k) {
-      const int i = constraints[k].vertex;
-      hold.mass[i] = state.constraint_mass[i];
-      state.v.row(i) -= state.constraint_impulse.row(i) / hold.mass[i];
-    }
   }
 }
 

@@ -10,8 +10,6 @@ WorldData make_data(const WorldModel& model, RigidSide rigid) {
   // Collision meshes: each cloth, then each rigid body's collision shapes.
   for (const ClothBody& body : model.cloths) {
     data.cloths.push_back(cloth::make_state(body.model, body.x_rest));
-    data.holds.push_back({std::vector<std::uint8_t>(static_cast<std::size_t>(body.x_rest.rows()), 0),
-                          Points::Zero(body.x_rest.rows(), 3), body.model.mass});
     collision::CollisionMesh mesh;
     mesh.x0 = mesh.x1 = body.x_rest;
     mesh.faces = body.model.faces;

@@ -85,21 +85,9 @@ struct RigidSide {
   std::vector<std::uint8_t> mesh_actuated;        ///< 1: a skeleton from `bodies` (hand, gripper)
 };
 
-/// Static friction of one cloth's vertices from the last step (paper §3, §4.2): a held vertex
-/// enters the next dynamics solve at its anchor's velocity, so the load of the cloth reaches it
-/// as the impulse that holds it, which the friction NCP then checks against the cone.
-struct FrictionHold {
-  std::vector<std::uint8_t> held;  ///< |V| 1: in static friction at the end of the last step
-  Points velocity;                 ///< |V|×3 its velocity then (its anchor's) [m/s]
-  /// |V| inertia [kg] the friction NCP uses: for a vertex solved as held, its effective mass in
-  /// the implicit system (it moves with its neighbours' stiffness), else its lumped mass.
-  Eigen::VectorXd mass;
-};
-
 /// Everything a step changes.
 struct WorldData {
   std::vector<cloth::ClothState> cloths;  ///< one per WorldModel::cloths
-  std::vector<FrictionHold> holds;        ///< one per WorldModel::cloths
   RigidSide rigid;
   double time{};                          ///< simulated time [s]
   long step{};                            ///< steps taken
