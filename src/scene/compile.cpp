@@ -59,6 +59,7 @@ rigid::PropSpec to_prop(const ObstacleSpec& o) {
     prop.motion.push_back(
         {k.t, to_pose(o.transform.translation + k.translation, rotation_xyz_deg(k.rotation_deg) * R)});
   prop.friction = o.friction;
+  prop.mass = o.mass;
   return prop;
 }
 

@@ -54,7 +54,7 @@ ShapeSpec parse_shape(Checker& c, const Json& v, const Pointer& at) {
 ObstacleSpec parse_obstacle(Checker& c, const Json& v, const Pointer& at) {
   ObstacleSpec o;
   if (!c.require_object(v, at)) return o;
-  c.check_keys(v, at, {"name", "shape", "transform", "motion", "friction"});
+  c.check_keys(v, at, {"name", "shape", "transform", "motion", "friction", "mass"});
   c.string_field(v, at, "name", o.name, Need::required);
   if (const Json* s = c.member(v, at, "shape", Need::required)) {
     o.shape = parse_shape(c, *s, at / "shape");
@@ -66,6 +66,9 @@ ObstacleSpec parse_obstacle(Checker& c, const Json& v, const Pointer& at) {
     o.motion = parse_motion(c, *m, at / "motion", true);
   }
   c.number_field(v, at, "friction", Rule::non_negative(), o.friction);
+  c.number_field(v, at, "mass", Rule::non_negative(), o.mass);
+  if (o.mass > 0.0 && !o.motion.empty()) c.fail(at / "mass", "a dynamic obstacle (mass > 0) cannot also have a scripted motion");
+  if (o.mass > 0.0 && o.shape.kind == ShapeSpec::Kind::plane) c.fail(at / "mass", "a plane cannot be dynamic");
   return o;
 }
 

@@ -78,6 +78,7 @@ struct ObstacleSpec {
   TransformSpec transform;
   std::vector<KeyframeSpec> motion;  ///< keyframes relative to `transform`, smooth interpolation
   double friction{0.5};             ///< μ against cloth
+  double mass{0.0};                 ///< > 0: a dynamic free body [kg]; 0: static or scripted
 };
 
 /// A point whose trajectory goes to summary.json: a cloth vertex or a point on a rigid body.

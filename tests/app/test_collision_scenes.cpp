@@ -1,0 +1,152 @@
+/// Collision handling, friction against obstacles and strain limiting, asserted on whole runs of
+/// the scenes under scenes/ (issue 3). Each run goes through the dexcloth CLI, as a user's would.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "cli_runner.hpp"
+
+using namespace dexcloth::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Runs scenes/<name>.json with extra CLI arguments; returns its summary.
+nlohmann::json run_scene(const std::string& name, const std::string& args) {
+  const fs::path out = fresh_dir(name);
+  const auto r = run_cli("run " + (source_dir() / "scenes" / (name + ".json")).string() +
+                         " --quiet --out " + out.string() + " " + args);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return read_json(out / "summary.json");
+}
+
+/// Warnings from collision handling (impact-zone fallbacks, unresolved impacts).
+int collision_warnings(const nlohmann::json& s) {
+  int n = 0;
+  for (const auto& w : s["warnings"])
+    if (w["message"].get<std::string>().find("impact") != std::string::npos) ++n;
+  return n;
+}
+
+/// Last recorded [t, x, y, z] of a probe.
+std::array<double, 4> last(const nlohmann::json& s, const std::string& probe) {
+  return s["probes"][probe].back().get<std::array<double, 4>>();
+}
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.81;
+
+}  // namespace
+
+TEST(CollisionScenes, SheetDrapesOverSphereWithoutIntersectingAndRestsAtTheThickness) {
+  const auto s = run_scene("drape_sphere", "--duration 1.5");
+  EXPECT_EQ(s["nan"], false);
+  EXPECT_EQ(s["intersections_max"], 0);
+  EXPECT_EQ(collision_warnings(s), 0) << s["warnings"].dump();
+  // The vertex over the pole rests one repulsion thickness (5 mm) above the sphere (r = 0.25 m);
+  // the repulsion spring leaves it within ±1 mm of that.
+  EXPECT_NEAR(last(s, "top")[3], 0.25 + 0.005, 1e-3);
+  // It did not explode: the corners hang below the sphere's equator, inside 0.6 m of the axis.
+  const auto corner = last(s, "corner");
+  EXPECT_LT(corner[3], 0.0);
+  EXPECT_LT(std::hypot(corner[1], corner[2]), 0.6);
+}
+
+TEST(CollisionScenes, SheetLiesOnTheTableAtTheThicknessAndHangsOverTheEdge) {
+  const auto s = run_scene("drape_table", "--duration 1.5");
+  EXPECT_EQ(s["intersections_max"], 0);
+  EXPECT_EQ(collision_warnings(s), 0) << s["warnings"].dump();
+  EXPECT_NEAR(last(s, "on_table")[3], 0.80 + 0.005, 1e-3);  // table top 0.8 m
+  EXPECT_LT(last(s, "hanging")[3], 0.75);                    // the overhang fell below the top
+}
+
+TEST(CollisionScenes, FastFallOntoAThinBoxDoesNotTunnel) {
+  // Strong gravity (100 m/s²) and a 0.13 m drop make the sheet hit the 1 cm thick table at
+  // √(2·100·0.13) = 5.1 m/s (25 mm per step, 2.5 times the box's thickness per step).
+  const auto s = run_scene("drape_table", "--duration 0.3 --set /gravity=[0,0,-100] --set /frame_rate=200 "
+                                          "--set /cloths/0/transform/translation=[0.25,0,0.93] "
+                                          "--set /obstacles/0/shape/box/size=[0.6,0.6,0.01] "
+                                          "--set /obstacles/0/transform/translation=[0,0,0.795]");
+  EXPECT_EQ(s["intersections_max"], 0);
+  const auto& on_table = s["probes"]["on_table"];
+  double fastest = 0.0;
+  for (std::size_t k = 1; k < on_table.size(); ++k)
+    fastest = std::max(fastest, (on_table[k - 1][3].get<double>() - on_table[k][3].get<double>()) /
+                                    (on_table[k][0].get<double>() - on_table[k - 1][0].get<double>()));
+  EXPECT_GT(fastest, 4.5);                                   // it really came down fast
+  EXPECT_GT(last(s, "on_table")[3], 0.80);                   // and stayed on top of the box
+}
+
+TEST(CollisionScenes, SheetFoldedOntoItselfAndASecondSheetNeverIntersect) {
+  const auto s = run_scene("self_fold", "--duration 1.5");
+  EXPECT_EQ(s["nan"], false);
+  EXPECT_EQ(s["intersections_max"], 0);
+  EXPECT_GT(s["contacts_max"].get<int>(), 0);
+}
+
+TEST(CollisionScenes, StrainLimitingBoundsTheStretchOfAHeavyStrip) {
+  // 50 kg/m² would stretch the strip by ρgL²/(2Et) = 49 %; limits [0.95, 1.05] keep it within 5 %.
+  const auto s = run_scene("strip", "--duration 1.0 --set /cloths/0/material/density=50 "
+                                    "--set /cloths/0/material/strain_limits=[0.95,1.05]");
+  const double length = last(s, "top")[3] - last(s, "bottom")[3];
+  EXPECT_LE(length, 1.0 * 1.05 * (1.0 + 2e-3));  // strain-limit tolerance 1e-3 per triangle
+  EXPECT_GT(length, 1.03);                       // and the load really stretched it
+}
+
+/// A cloth square on a plane tilted by θ slides iff tan θ > μ; sliding at g(sin θ − μ cos θ).
+struct InclineCase {
+  double mu;
+  double degrees_off;  ///< θ − atan μ [deg]
+  const char* coupling;
+};
+
+class Incline : public ::testing::TestWithParam<InclineCase> {};
+
+TEST_P(Incline, SlidesIffTanThetaExceedsMuAtTheCoulombAcceleration) {
+  const InclineCase c = GetParam();
+  const double theta = std::atan(c.mu) + c.degrees_off * kPi / 180.0;
+  const double deg = theta * 180.0 / kPi;
+  const std::string rot = "[" + std::to_string(deg) + ",0,0]";
+  const auto s = run_scene(
+      "incline", "--coupling " + std::string(c.coupling) + " --set /obstacles/0/transform/rotation_deg=" + rot +
+                     " --set /cloths/0/transform/rotation_deg=" + rot +
+                     " --set /obstacles/0/friction=" + std::to_string(c.mu) +
+                     " --set /cloths/0/material/friction=" + std::to_string(c.mu));
+  EXPECT_EQ(s["intersections_max"], 0);
+  // Distance travelled down the slope, from t = 0.2 s (settled on the plane) on.
+  const auto& p = s["probes"]["centre"];
+  const Eigen::Vector3d down(0.0, -std::cos(theta), -std::sin(theta));
+  const auto along = [&](std::size_t k) {
+    return Eigen::Vector3d(p[k][1].get<double>(), p[k][2].get<double>(), p[k][3].get<double>()).dot(down);
+  };
+  const std::size_t k0 = 10, k1 = p.size() - 1;  // frames at 50 fps
+  const double travelled = along(k1) - along(k0);
+  if (c.degrees_off < 0) {
+    EXPECT_LT(std::abs(travelled), 1e-3) << "held at θ = " << deg << "°, μ = " << c.mu;
+  } else {
+    // Fit s(t) = s0 + v0 t + a t²/2 by least squares over the frames after k0.
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(k1 - k0 + 1), 3);
+    Eigen::VectorXd b(A.rows());
+    for (std::size_t k = k0; k <= k1; ++k) {
+      const double t = p[k][0].get<double>();
+      A.row(static_cast<Eigen::Index>(k - k0)) << 1.0, t, 0.5 * t * t;
+      b(static_cast<Eigen::Index>(k - k0)) = along(k);
+    }
+    const double a = A.colPivHouseholderQr().solve(b)(2);
+    const double expected = kG * (std::sin(theta) - c.mu * std::cos(theta));
+    EXPECT_NEAR(a, expected, 0.10 * expected) << "θ = " << deg << "°, μ = " << c.mu;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BothCouplings, Incline,
+    ::testing::Values(InclineCase{0.3, -3.0, "bai-liu"}, InclineCase{0.3, +3.0, "bai-liu"},
+                      InclineCase{0.6, -3.0, "bai-liu"}, InclineCase{0.6, +3.0, "bai-liu"},
+                      InclineCase{0.3, -3.0, "kinematic"}, InclineCase{0.3, +3.0, "kinematic"},
+                      InclineCase{0.6, -3.0, "kinematic"}, InclineCase{0.6, +3.0, "kinematic"}),
+    [](const auto& info) {
+      return std::string(info.param.coupling == std::string("bai-liu") ? "BaiLiu" : "Kinematic") +
+             "_mu" + std::to_string(static_cast<int>(info.param.mu * 10)) +
+             (info.param.degrees_off < 0 ? "_below" : "_above");
+    });
