@@ -107,12 +107,17 @@ TEST_P(Incline, SlidesIffTanThetaExceedsMuAtTheCoulombAcceleration) {
   const InclineCase c = GetParam();
   const double theta = std::atan(c.mu) + c.degrees_off * kPi / 180.0;
   const double deg = theta * 180.0 / kPi;
-  const std::string rot = "[" + std::to_string(deg) + ",0,0]";
-  const auto s = run_scene(
-      "incline", "--coupling " + std::string(c.coupling) + " --set /obstacles/0/transform/rotation_deg=" + rot +
-                     " --set /cloths/0/transform/rotation_deg=" + rot +
-                     " --set /obstacles/0/friction=" + std::to_string(c.mu) +
-                     " --set /cloths/0/material/friction=" + std::to_string(c.mu));
+  std::string rot = "[";  // built by appending: GCC 12 misreports "[" + string as -Wrestrict
+  rot += std::to_string(deg);
+  rot += ",0,0]";
+  const std::string mu = std::to_string(c.mu);
+  std::string args = "--coupling ";
+  args += c.coupling;
+  args += " --set /obstacles/0/transform/rotation_deg=" + rot;
+  args += " --set /cloths/0/transform/rotation_deg=" + rot;
+  args += " --set /obstacles/0/friction=" + mu;
+  args += " --set /cloths/0/material/friction=" + mu;
+  const auto s = run_scene("incline", args);
   EXPECT_EQ(s["intersections_max"], 0);
   // Distance travelled down the slope, from t = 0.2 s (settled on the plane) on.
   const auto& p = s["probes"]["centre"];
