@@ -169,17 +169,15 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
 /// Fills `impulses` (|V|×3, zero for free vertices) with the impulse [N·s] each velocity
 /// constraint applied over the step: the residual A_i·Δv − b_i of its row as assembled.
 void constraint_impulses(const ClothModel& model, std::span<const VelocityConstraint> constraints,
-                         const DynamicsWorkspace& ws, Points& impulses, Eigen::VectorXd& masses) {
+                         const DynamicsWorkspace& ws, Points& impulses) {
   const SystemPattern& p = model.pattern;
   impulses.setZero(model.num_vertices(), 3);
-  masses = model.mass;
   std::size_t row = 0;
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     const auto i = static_cast<std::size_t>(constraints[k].vertex);
     Vec3 J = -ws.saved_rhs[k];
     for (int b = p.col_start[i]; b < p.col_start[i + 1]; ++b) {
       const int j = p.row[static_cast<std::size_t>(b)];
-      if (j == static_cast<int>(i)) masses[j] = ws.saved_rows[row].trace() / 3.0;
       J += ws.saved_rows[row++] * ws.dv.segment<3>(3 * j);
     }
     impulses.row(static_cast<Eigen::Index>(i)) = J.transpose();
@@ -293,7 +291,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   if (!report.ok) return report;
 
   // Impulse J_i = A_i·Δv − b_i each constraint applied (its unsatisfied row of the system).
-  constraint_impulses(model, constraints, ws, state.constraint_impulse, state.constraint_mass);
+  constraint_impulses(model, constraints, ws, state.constraint_impulse);
   // v̄ = v + Δv; constrained vertices take their velocity exactly.
   state.v += Points::Map(ws.dv.data(), nv, 3);
   for (const VelocityConstraint& c : constraints) state.v.row(c.vertex) = c.velocity.transpose();

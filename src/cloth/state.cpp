@@ -27,7 +27,6 @@ ClothState make_state(const ClothModel& model, const Points& x0) {
   s.v = Points::Zero(x0.rows(), 3);
   s.f_ext = Points::Zero(x0.rows(), 3);
   s.constraint_impulse = Points::Zero(x0.rows(), 3);
-  s.constraint_mass = model.mass;
   return s;
 }
 

@@ -37,9 +37,6 @@ struct ClothState {
   /// |V|×3 impulse [N·s] each velocity constraint applied in the last solve (zero for free
   /// vertices): what holding the vertex at its prescribed velocity took, e.g. from friction.
   Points constraint_impulse;
-  /// |V| effective mass [kg] of each constrained vertex in the last solve: the mean diagonal of
-  /// its block of M + (h² + hβ)K, the inertia it shows when released alone (free vertices: m).
-  Eigen::VectorXd constraint_mass;
   DynamicsScratch scratch;  ///< solver buffers
 };
 

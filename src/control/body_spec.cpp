@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "control/poses.hpp"
+#include "core/transform.hpp"
 #include "rigid/ik.hpp"
 
 namespace dexcloth::control {
@@ -222,13 +223,6 @@ WristSpec parse_wrist(Reader& r, const json& j, const std::string& ptr) {
 
 }  // namespace
 
-Mat3 rotation_from_deg(const Vec3& deg) {
-  const Vec3 rad = deg * (std::numbers::pi / 180.0);
-  return (Eigen::AngleAxisd(rad.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rad.y(), Vec3::UnitY()) *
-          Eigen::AngleAxisd(rad.x(), Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 BodySpec parse_body_spec(const json& j, const std::string& file, const std::string& pointer,
                          const std::string& scene_dir, ErrorList& errors) {
   Reader r(file, errors);
@@ -317,7 +311,7 @@ BuiltBody build_body(rigid::RigidWorld& world, const BodySpec& spec, const std::
   rigid::UrdfOptions options;
   options.fixed_root = spec.fixed_root;
   options.friction = spec.friction;
-  options.X_WR.linear() = rotation_from_deg(spec.root_rotation_deg);
+  options.X_WR.linear() = rotation_xyz_deg(spec.root_rotation_deg);
   options.X_WR.translation() = spec.root_translation;
   BuiltBody built;
   try {
@@ -408,7 +402,7 @@ BuiltBody build_body(rigid::RigidWorld& world, const BodySpec& spec, const std::
     const rigid::BodyId rb = world.root_body(s);
     for (const auto& k : ctl.wrist->keyframes) {
       Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-      X.linear() = rotation_from_deg(k.rotation_deg);
+      X.linear() = rotation_xyz_deg(k.rotation_deg);
       X.translation() = k.translation + X.linear() * ctl.wrist->point_B;
       keys.push_back({k.t, X});
     }

@@ -119,8 +119,6 @@ struct BuiltBody {
 /// the controllers. Throws InputRejected listing every problem (against `file` and pointers).
 BuiltBody build_body(rigid::RigidWorld& world, const BodySpec& spec, const std::string& file);
 
-/// Rotation for Euler angles [deg] about x, then y, then z: R = Rz·Ry·Rx.
-Mat3 rotation_from_deg(const Vec3& rotation_deg);
 
 /// World position of point p_B [m] on body "skeleton/body_node" (a probe).
 Vec3 probe(const rigid::RigidWorld& world, const std::string& body_path, const Vec3& p_B = Vec3::Zero());
