@@ -131,8 +131,16 @@ void assemble(const ClothModel& model, const ClothState& state, double h, const 
   }
 }
 
-/// Eliminates the constrained unknowns: Δv_i = v*_i − v_i is moved to the right-hand side and
-/// row/column i become M_i·I, so the pattern (and its analysis) never changes.
+/// The projector S onto a constraint's free directions: n·nᵀ for a free direction n, else 0.
+Mat3 free_projector(const VelocityConstraint& c) {
+  return c.free_direction.squaredNorm() > 0.0 ? Mat3(c.free_direction * c.free_direction.transpose())
+                                              : Mat3(Mat3::Zero());
+}
+
+/// Eliminates the constrained unknowns. With S_i the projector onto vertex i's free directions
+/// and z_i = (I − S_i)(v*_i − v_i) its prescribed change, Δv_i = z_i + S_i·y_i: A·z moves to the
+/// right-hand side, row and column i are projected by S_i and the constrained directions get
+/// M_i·(I − S_i)·Δv_i = M_i·z_i, so the system stays SPD and its pattern never changes.
 void eliminate_constraints(const ClothModel& model, const ClothState& state,
                            std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws) {
   const SystemPattern& p = model.pattern;
@@ -149,19 +157,25 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
   }
   for (const VelocityConstraint& c : constraints) {
     const int i = c.vertex;
-    const Vec3 dv_i = c.velocity - state.v.row(i).transpose();
+    const Mat3 S = free_projector(c);
+    const Mat3 fixed = Mat3::Identity() - S;
+    const Vec3 z = fixed * (c.velocity - state.v.row(i).transpose());
+    const auto diag = static_cast<std::size_t>(p.diagonal[static_cast<std::size_t>(i)]);
     for (int b = p.col_start[static_cast<std::size_t>(i)];
          b < p.col_start[static_cast<std::size_t>(i) + 1]; ++b) {
       const int j = p.row[static_cast<std::size_t>(b)];
       if (j == i) continue;
-      ws.rhs.segment<3>(3 * j) -= ws.blocks[static_cast<std::size_t>(b)] * dv_i;
-      ws.blocks[static_cast<std::size_t>(b)].setZero();
-      ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])].setZero();
+      Mat3& A_ji = ws.blocks[static_cast<std::size_t>(b)];
+      Mat3& A_ij = ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])];
+      ws.rhs.segment<3>(3 * j) -= A_ji * z;
+      A_ji = (A_ji * S).eval();
+      A_ij = (S * A_ij).eval();
     }
     const double m = model.mass[i];
-    ws.blocks[static_cast<std::size_t>(p.diagonal[static_cast<std::size_t>(i)])] =
-        m * Mat3::Identity();
-    ws.rhs.segment<3>(3 * i) = m * dv_i;
+    Mat3& A_ii = ws.blocks[diag];
+    const Vec3 rhs_i = ws.rhs.segment<3>(3 * i) - A_ii * z;
+    ws.rhs.segment<3>(3 * i) = S * rhs_i + m * z;
+    A_ii = S * A_ii * S + m * fixed;
     ws.constrained[static_cast<std::size_t>(i)] = 1;
   }
 }
@@ -217,6 +231,18 @@ double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
   return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);
 }
 
+/// v̄ = v + Δv; constrained vertices take their prescribed velocity exactly in their constrained
+/// directions.
+void take_velocities(const ClothModel& model, std::span<const VelocityConstraint> constraints,
+                     const DynamicsWorkspace& ws, ClothState& state) {
+  state.v += Points::Map(ws.dv.data(), model.num_vertices(), 3);
+  for (const VelocityConstraint& c : constraints) {
+    const Mat3 S = free_projector(c);
+    const Vec3 v = S * state.v.row(c.vertex).transpose() + (Mat3::Identity() - S) * c.velocity;
+    state.v.row(c.vertex) = v.transpose();
+  }
+}
+
 }  // namespace
 
 void assemble_system(const ClothModel& model, const ClothState& state, double h,
@@ -243,7 +269,10 @@ DynamicsReport solve_system(const ClothModel& model,
     }
     // Warm start from the last Δv, with the constrained unknowns at their known values.
     for (const VelocityConstraint& c : constraints) {
-      ws.dv.segment<3>(3 * c.vertex) = ws.rhs.segment<3>(3 * c.vertex) / model.mass[c.vertex];
+      const Mat3 S = free_projector(c);
+      ws.dv.segment<3>(3 * c.vertex) = S * ws.dv.segment<3>(3 * c.vertex) +
+                                       (Mat3::Identity() - S) * ws.rhs.segment<3>(3 * c.vertex) /
+                                           model.mass[c.vertex];
     }
     const PcgResult r = ws.pcg.solve(model.pattern, ws.blocks, ws.rhs, ws.dv, settings.tolerance,
                                      settings.max_iterations, settings.threads);
@@ -293,8 +322,97 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   // Impulse J_i = A_i·Δv − b_i each constraint applied (its unsatisfied row of the system).
   constraint_impulses(model, constraints, ws, state.constraint_impulse);
   // v̄ = v + Δv; constrained vertices take their velocity exactly.
-  state.v += Points::Map(ws.dv.data(), nv, 3);
-  for (const VelocityConstraint& c : constraints) state.v.row(c.vertex) = c.velocity.transpose();
+  take_velocities(model, constraints, ws, state);
+  return report;
+}
+
+DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
+                                const Vec3& gravity,
+                                std::span<const VelocityConstraint> constraints,
+                                std::span<const FrictionConstraint> friction,
+                                FrictionOutcome& outcome, int max_rounds) {
+  const int nv = model.num_vertices();
+  DEXCLOTH_DEMAND(h > 0.0 && max_rounds >= 1);
+  DEXCLOTH_DEMAND(model.solver.threads >= 1);
+  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
+  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+  for (const FrictionConstraint& f : friction)
+    DEXCLOTH_DEMAND(f.vertex >= 0 && f.vertex < nv && f.max_impulse >= 0.0 &&
+                    std::abs(f.normal.norm() - 1.0) < 1e-6);
+
+  DynamicsWorkspace& ws = state.scratch.get();
+  prepare(model, ws);
+  assemble(model, state, h, gravity, ws);
+  ws.base_blocks = ws.blocks;
+  ws.base_rhs = ws.rhs;
+  // Vertices held by `constraints` are not friction vertices.
+  ws.held.assign(static_cast<std::size_t>(nv), 0);
+  for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;
+  const std::size_t nf = friction.size();
+  outcome.sticking.assign(nf, 1);
+  outcome.impulse.assign(nf, Vec3::Zero());
+  for (std::size_t k = 0; k < nf; ++k)
+    if (ws.held[static_cast<std::size_t>(friction[k].vertex)]) outcome.sticking[k] = 0;
+  const auto tangential = [](const Vec3& a, const Vec3& n) { return Vec3(a - n.dot(a) * n); };
+
+  DynamicsReport report;
+  for (int round = 0; round < max_rounds; ++round) {
+    // The assembled system, the sliding vertices' friction impulses, the sticking constraints.
+    if (round > 0) {
+      ws.blocks = ws.base_blocks;
+      ws.rhs = ws.base_rhs;
+    }
+    ws.all_constraints.assign(constraints.begin(), constraints.end());
+    for (std::size_t k = 0; k < nf; ++k) {
+      const FrictionConstraint& f = friction[k];
+      if (ws.held[static_cast<std::size_t>(f.vertex)]) continue;
+      if (outcome.sticking[k])
+        ws.all_constraints.push_back({f.vertex, f.surface_velocity, f.normal});
+      else
+        ws.rhs.segment<3>(3 * f.vertex) += outcome.impulse[k];
+    }
+    eliminate_constraints(model, state, ws.all_constraints, ws);
+    report = solve_system(model, ws.all_constraints, ws);
+    if (!report.ok) return report;
+    constraint_impulses(model, ws.all_constraints, ws, state.constraint_impulse);
+    outcome.rounds = round + 1;
+    const bool last = round + 1 == max_rounds;
+
+    // Coulomb: stuck vertices within their bound, sliding ones against their sliding velocity.
+    bool changed = false;
+    for (std::size_t k = 0; k < nf; ++k) {
+      const FrictionConstraint& f = friction[k];
+      const int i = f.vertex;
+      if (ws.held[static_cast<std::size_t>(i)]) continue;
+      if (outcome.sticking[k]) {
+        const Vec3 J = tangential(state.constraint_impulse.row(i).transpose(), f.normal);
+        outcome.impulse[k] = J;
+        if (!last && J.norm() > f.max_impulse * (1.0 + 1e-9)) {
+          outcome.sticking[k] = 0;
+          outcome.impulse[k] = f.max_impulse * J.normalized();
+          changed = true;
+        }
+        continue;
+      }
+      const Vec3 v_next = state.v.row(i).transpose() + ws.dv.segment<3>(3 * i);
+      const Vec3 w = tangential(v_next - f.surface_velocity, f.normal);
+      if (last) continue;
+      if (w.dot(outcome.impulse[k]) >= 0.0) {
+        outcome.sticking[k] = 1;  // friction reversed the sliding: it sticks
+        changed = true;
+        continue;
+      }
+      const Vec3 opposed = -f.max_impulse * w.normalized();
+      if ((opposed - outcome.impulse[k]).norm() > 1e-3 * f.max_impulse) changed = true;
+      outcome.impulse[k] = opposed;
+    }
+    if (!changed) break;
+  }
+  // The impulse of every friction vertex, sticking or sliding, with the constraints'.
+  for (std::size_t k = 0; k < nf; ++k)
+    if (!ws.held[static_cast<std::size_t>(friction[k].vertex)])
+      state.constraint_impulse.row(friction[k].vertex) = outcome.impulse[k].transpose();
+  take_velocities(model, ws.all_constraints, ws, state);
   return report;
 }
 

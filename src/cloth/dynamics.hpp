@@ -3,6 +3,7 @@
 /// (Baraff & Witkin 1998; ARCSim), with hard velocity constraints (handles).
 #include <span>
 #include <string>
+#include <vector>
 
 #include "cloth/model.hpp"
 #include "cloth/state.hpp"
@@ -10,10 +11,30 @@
 
 namespace dexcloth::cloth {
 
-/// A vertex whose velocity over the step is prescribed exactly (its unknowns are eliminated).
+/// A vertex whose velocity over the step is prescribed (its unknowns are eliminated), in all
+/// three directions or, with a nonzero `free_direction`, in the plane orthogonal to it.
 struct VelocityConstraint {
   int vertex{};                 ///< vertex index in [0, |V|)
   Vec3 velocity{Vec3::Zero()};  ///< prescribed velocity [m/s]
+  Vec3 free_direction{Vec3::Zero()};  ///< unit direction left to the dynamics, or zero (none)
+};
+
+/// Coulomb friction of a vertex against a surface, solved inside the implicit step: the vertex
+/// sticks (its tangential velocity is the surface's, its normal velocity free) while the
+/// tangential impulse that takes is at most `max_impulse`; otherwise it slides and friction
+/// applies exactly `max_impulse` against its sliding velocity.
+struct FrictionConstraint {
+  int vertex{};                          ///< vertex index in [0, |V|)
+  Vec3 normal{Vec3::UnitZ()};            ///< unit contact normal (sign irrelevant)
+  Vec3 surface_velocity{Vec3::Zero()};   ///< velocity of the touching surface [m/s]
+  double max_impulse{};                  ///< μ·Σ fN·h, the friction impulse bound [N·s], ≥ 0
+};
+
+/// Outcome of the friction constraints of a solve, in their order.
+struct FrictionOutcome {
+  std::vector<char> sticking;  ///< 1 = stuck to its surface, 0 = sliding (or not solved)
+  std::vector<Vec3> impulse;   ///< tangential friction impulse applied [N·s]
+  int rounds{};                ///< active-set rounds (linear solves) taken
 };
 
 /// Outcome of a dynamics solve. A failed solve never aborts: ok = false and `message` says why.
@@ -36,6 +57,19 @@ struct DynamicsReport {
 DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
                                 const Vec3& gravity,
                                 std::span<const VelocityConstraint> constraints);
+
+/// solve_velocities with Coulomb friction in the implicit step (DESIGN.md, friction of held
+/// vertices): an active set over `friction`. Every vertex starts stuck; a stuck vertex whose
+/// tangential constraint impulse exceeds its bound slides with the bound along that impulse; a
+/// sliding vertex takes the bound against its tangential sliding velocity and sticks again when
+/// that velocity reverses. Repeats (re-solving the same assembled system) until no vertex
+/// changes, at most `max_rounds` times. Vertices also in `constraints` keep those. Writes v̄ into
+/// state.v and the outcome into `outcome`; on failure state.v is left unchanged.
+DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
+                                const Vec3& gravity,
+                                std::span<const VelocityConstraint> constraints,
+                                std::span<const FrictionConstraint> friction,
+                                FrictionOutcome& outcome, int max_rounds = 8);
 
 /// Moves the positions with the current velocities: x += h·v (`h` [s]).
 void advance_positions(ClothState& state, double h);

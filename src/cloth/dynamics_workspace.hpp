@@ -20,6 +20,11 @@ struct DynamicsWorkspace {
   std::vector<char> constrained;  ///< |V| flags of velocity-constrained vertices
   std::vector<Mat3> saved_rows;   ///< constrained rows' blocks A(i, j) before elimination
   std::vector<Vec3> saved_rhs;    ///< constrained rows' right-hand sides before elimination
+  // Friction rounds: the assembled system before elimination, and the round's constraints.
+  std::vector<Mat3> base_blocks;
+  Eigen::VectorXd base_rhs;
+  std::vector<VelocityConstraint> all_constraints;
+  std::vector<char> held;  ///< |V| flags of vertices held by the caller's velocity constraints
   // Direct solver: the system's upper triangle in fill-reducing order.
   bool ldlt_ready{false};
   std::vector<int> ldlt_col_start;  ///< 3|V|+1

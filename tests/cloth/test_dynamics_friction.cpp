@@ -1,0 +1,133 @@
+// Coulomb friction inside the implicit step (solve_velocities with FrictionConstraint): partial
+// velocity constraints, the slide/stick threshold on an incline against g(sinθ − μcosθ), and a
+// pinched strip held iff the friction bound covers its weight.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "cloth/dynamics.hpp"
+#include "cloth/mesh.hpp"
+#include "cloth/model.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::cloth;
+
+namespace {
+
+constexpr double kStep = 0.005;
+constexpr double kG = 9.81;
+
+}  // namespace
+
+TEST(DynamicsFriction, PartialConstraintPrescribesOnlyTheTangentialVelocity) {
+  const ClothMesh mesh = make_grid(0.2, 0.2, 5, 5);
+  for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
+    ClothModel model = build_model(mesh, Material{});
+    model.solver.linear_solver = solver;
+    model.solver.tolerance = 1e-10;
+    ClothState state = make_state(model, mesh.x);
+    const Vec3 n = Vec3(1.0, 0.0, 1.0).normalized();
+    const Vec3 target(0.1, -0.2, 0.3);
+    const std::vector<VelocityConstraint> c = {{12, target, n}};
+    ASSERT_TRUE(solve_velocities(model, state, kStep, Vec3(0, 0, -kG), c).ok);
+    const Vec3 v = state.v.row(12).transpose();
+    const Vec3 dt = (v - target) - n.dot(v - target) * n;  // tangential error
+    EXPECT_LT(dt.norm(), 1e-12);
+    // The free direction is solved, not prescribed: it differs from the target's component, and
+    // the constraint's impulse has no component along it.
+    EXPECT_GT(std::abs(n.dot(v - target)), 1e-3);
+    const Vec3 J = state.constraint_impulse.row(12).transpose();
+    EXPECT_LT(std::abs(J.dot(n)), 1e-8 * J.norm());
+    EXPECT_GT(J.norm(), 0.0);
+  }
+}
+
+TEST(DynamicsFriction, SheetOnAnInclineSticksIffTanThetaBelowMu) {
+  // A sheet in the x–y plane with gravity tilted by θ: each vertex's friction bound is
+  // μ·m·g·cosθ·h. Uniform motion loads no spring, so each step Δv_x = g(sinθ − μcosθ)h when
+  // tanθ > μ, and 0 otherwise.
+  const double mu = 0.4;
+  const ClothMesh mesh = make_grid(0.2, 0.2, 6, 6);
+  for (double ratio : {0.8, 0.99, 1.01, 1.5}) {
+    const double theta = std::atan(ratio * mu);
+    const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
+    for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
+      ClothModel model = build_model(mesh, Material{});
+      model.solver.linear_solver = solver;
+      model.solver.tolerance = 1e-10;
+      ClothState state = make_state(model, mesh.x);
+      std::vector<FrictionConstraint> friction;
+      for (int i = 0; i < model.num_vertices(); ++i)
+        friction.push_back({i, Vec3::UnitZ(), Vec3::Zero(), mu * model.mass[i] * kG * std::cos(theta) * kStep});
+      FrictionOutcome outcome;
+      const int steps = 20;
+      for (int s = 0; s < steps; ++s) {
+        ASSERT_TRUE(solve_velocities(model, state, kStep, gravity, {}, friction, outcome).ok);
+        advance_positions(state, kStep);
+      }
+      const double expected =
+          ratio > 1.0 ? steps * kStep * kG * (std::sin(theta) - mu * std::cos(theta)) : 0.0;
+      for (int i = 0; i < model.num_vertices(); ++i) {
+        EXPECT_NEAR(state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
+        EXPECT_NEAR(state.v(i, 1), 0.0, 1e-9);
+        EXPECT_NEAR(state.v(i, 2), -steps * kStep * kG * std::cos(theta), 1e-8);
+        EXPECT_EQ(outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
+      }
+      EXPECT_LE(outcome.rounds, 3);
+    }
+  }
+}
+
+TEST(DynamicsFriction, PinchedStripHeldIffTheBoundCoversItsWeight) {
+  // A 5 cm × 30 cm strip hanging along −y, its top two rows pinched (normal z, a still jaw).
+  // Σ bounds = factor·W·h. Held (factor 1.5): after the load settles on the pinch the pinched
+  // vertices stop, all stick, and the friction impulses carry the weight. Dropped (factor 0.8):
+  // they slide at about (1 − 0.8)·g.
+  const int nx = 3, ny = 16;
+  const ClothMesh mesh = make_grid(0.05, 0.3, nx, ny);
+  Material material;
+  material.density = 0.15;
+  material.youngs_modulus = 5e5;
+  material.thickness = 1e-3;
+  material.damping = 0.005;
+  for (double factor : {1.5, 0.8}) {
+    ClothModel model = build_model(mesh, material);
+    ClothState state = make_state(model, mesh.x);
+    const double weight = model.mass.sum() * kG;
+    std::vector<FrictionConstraint> friction;
+    for (int j = ny - 2; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) friction.push_back({j * nx + i, Vec3::UnitZ(), Vec3::Zero(), 0.0});
+    for (FrictionConstraint& f : friction)
+      f.max_impulse = factor * weight * kStep / static_cast<double>(friction.size());
+    FrictionOutcome outcome;
+    const auto pinched_mean_y = [&] {
+      double y = 0.0;
+      for (const FrictionConstraint& f : friction) y += state.x(f.vertex, 1);
+      return y / static_cast<double>(friction.size());
+    };
+    const double y0 = pinched_mean_y();
+    double y_settled = 0.0;
+    for (int s = 0; s < 400; ++s) {
+      ASSERT_TRUE(solve_velocities(model, state, kStep, Vec3(0, -kG, 0), {}, friction, outcome).ok);
+      advance_positions(state, kStep);
+      if (s == 199) y_settled = pinched_mean_y();
+    }
+    if (factor > 1.0) {
+      // Micro-slip while the load moves up the pinch, then none over the last second.
+      EXPECT_LT(y0 - y_settled, 1e-3);
+      EXPECT_LT(std::abs(pinched_mean_y() - y_settled), 1e-6);
+      Vec3 total = Vec3::Zero();
+      for (std::size_t k = 0; k < friction.size(); ++k) {
+        EXPECT_EQ(outcome.sticking[k], 1) << k;
+        EXPECT_LE(outcome.impulse[k].norm(), friction[k].max_impulse * (1.0 + 1e-9));
+        total += outcome.impulse[k];
+      }
+      EXPECT_NEAR(total.y(), weight * kStep, 1e-3 * weight * kStep);
+    } else {
+      // 2 s at (1 − 0.8)·g would be 3.9 m; the strip's stretch waves slow it a little.
+      EXPECT_GT(y0 - pinched_mean_y(), 0.5 * 0.5 * 0.2 * kG * 4.0);
+      for (std::size_t k = 0; k < friction.size(); ++k) EXPECT_EQ(outcome.sticking[k], 0);
+    }
+  }
+}
