@@ -330,9 +330,9 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
                                 const Vec3& gravity,
                                 std::span<const VelocityConstraint> constraints,
                                 std::span<const FrictionConstraint> friction,
-                                FrictionOutcome& outcome, int max_rounds) {
+                                FrictionOutcome& outcome, const FrictionSettings& settings) {
   const int nv = model.num_vertices();
-  DEXCLOTH_DEMAND(h > 0.0 && max_rounds >= 1);
+  DEXCLOTH_DEMAND(h > 0.0 && settings.stick_velocity > 0.0 && settings.max_iterations >= 1);
   DEXCLOTH_DEMAND(model.solver.threads >= 1);
   DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
   for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
@@ -345,73 +345,90 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   assemble(model, state, h, gravity, ws);
   ws.base_blocks = ws.blocks;
   ws.base_rhs = ws.rhs;
-  // Vertices held by `constraints` are not friction vertices.
+  // Vertices held by `constraints` keep those, without friction.
   ws.held.assign(static_cast<std::size_t>(nv), 0);
   for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;
   const std::size_t nf = friction.size();
-  outcome.sticking.assign(nf, 1);
-  outcome.impulse.assign(nf, Vec3::Zero());
-  for (std::size_t k = 0; k < nf; ++k)
-    if (ws.held[static_cast<std::size_t>(friction[k].vertex)]) outcome.sticking[k] = 0;
-  const auto tangential = [](const Vec3& a, const Vec3& n) { return Vec3(a - n.dot(a) * n); };
+  const double eps = settings.stick_velocity;
+  const auto active = [&](std::size_t k) { return !ws.held[static_cast<std::size_t>(friction[k].vertex)]; };
+  // Relative tangential velocity of friction vertex k at the velocity change `dv`.
+  const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
+    const FrictionConstraint& f = friction[k];
+    const Vec3 w = state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
+    return Vec3(w - f.normal.dot(w) * f.normal);
+  };
+  // The objective whose minimiser is the step: ½Δvᵀ A Δv − bᵀΔv + Σ B_k φ(‖w_k‖), φ the norm
+  // smoothed below ε (φ = s²/2ε + ε/2 there).
+  const auto objective = [&](const Eigen::VectorXd& dv) {
+    block_multiply(model.pattern, ws.base_blocks, dv, ws.work, model.solver.threads);
+    double e = 0.5 * dv.dot(ws.work) - ws.base_rhs.dot(dv);
+    for (std::size_t k = 0; k < nf; ++k) {
+      if (!active(k)) continue;
+      const double sl = slip(k, dv).norm();
+      e += friction[k].max_impulse * (sl < eps ? 0.5 * sl * sl / eps + 0.5 * eps : sl);
+    }
+    return e;
+  };
 
+  // Newton iterations from Δv = 0 (the last velocity; a vertex that stuck starts stuck).
+  ws.dv_iterate = Eigen::VectorXd::Zero(3 * nv);
+  double e_current = objective(ws.dv_iterate);
   DynamicsReport report;
-  for (int round = 0; round < max_rounds; ++round) {
-    // The assembled system, the sliding vertices' friction impulses, the sticking constraints.
-    if (round > 0) {
-      ws.blocks = ws.base_blocks;
-      ws.rhs = ws.base_rhs;
-    }
-    ws.all_constraints.assign(constraints.begin(), constraints.end());
+  outcome.iterations = 0;
+  for (int it = 0; it < settings.max_iterations; ++it) {
+    // Friction's gradient and Hessian at the iterate: B/ε·T sticking, B/s·(T − ŵŵᵀ) sliding.
+    ws.blocks = ws.base_blocks;
+    ws.rhs = ws.base_rhs;
     for (std::size_t k = 0; k < nf; ++k) {
+      if (!active(k)) continue;
       const FrictionConstraint& f = friction[k];
-      if (ws.held[static_cast<std::size_t>(f.vertex)]) continue;
-      if (outcome.sticking[k])
-        ws.all_constraints.push_back({f.vertex, f.surface_velocity, f.normal});
-      else
-        ws.rhs.segment<3>(3 * f.vertex) += outcome.impulse[k];
+      const Vec3 w = slip(k, ws.dv_iterate);
+      const double sl = w.norm();
+      const Mat3 T = Mat3::Identity() - f.normal * f.normal.transpose();
+      const Mat3 H = sl < eps ? Mat3(f.max_impulse / eps * T)
+                              : Mat3(f.max_impulse / sl * (T - w * w.transpose() / (sl * sl)));
+      const Vec3 g = sl < eps ? Vec3(f.max_impulse / eps * w) : Vec3(f.max_impulse / sl * w);
+      ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(f.vertex)])] += H;
+      ws.rhs.segment<3>(3 * f.vertex) += H * ws.dv_iterate.segment<3>(3 * f.vertex) - g;
     }
-    eliminate_constraints(model, state, ws.all_constraints, ws);
-    report = solve_system(model, ws.all_constraints, ws);
+    eliminate_constraints(model, state, constraints, ws);
+    ws.dv = ws.dv_iterate;  // warm start
+    report = solve_system(model, constraints, ws);
     if (!report.ok) return report;
-    constraint_impulses(model, ws.all_constraints, ws, state.constraint_impulse);
-    outcome.rounds = round + 1;
-    const bool last = round + 1 == max_rounds;
-
-    // Coulomb: stuck vertices within their bound, sliding ones against their sliding velocity.
-    bool changed = false;
-    for (std::size_t k = 0; k < nf; ++k) {
-      const FrictionConstraint& f = friction[k];
-      const int i = f.vertex;
-      if (ws.held[static_cast<std::size_t>(i)]) continue;
-      if (outcome.sticking[k]) {
-        const Vec3 J = tangential(state.constraint_impulse.row(i).transpose(), f.normal);
-        outcome.impulse[k] = J;
-        if (!last && J.norm() > f.max_impulse * (1.0 + 1e-9)) {
-          outcome.sticking[k] = 0;
-          outcome.impulse[k] = f.max_impulse * J.normalized();
-          changed = true;
-        }
-        continue;
-      }
-      const Vec3 v_next = state.v.row(i).transpose() + ws.dv.segment<3>(3 * i);
-      const Vec3 w = tangential(v_next - f.surface_velocity, f.normal);
-      if (last) continue;
-      if (w.dot(outcome.impulse[k]) >= 0.0) {
-        outcome.sticking[k] = 1;  // friction reversed the sliding: it sticks
-        changed = true;
-        continue;
-      }
-      const Vec3 opposed = -f.max_impulse * w.normalized();
-      if ((opposed - outcome.impulse[k]).norm() > 1e-3 * f.max_impulse) changed = true;
-      outcome.impulse[k] = opposed;
+    ++outcome.iterations;
+    // Backtracking line search on the objective (convex: the full step almost always decreases it).
+    ws.dv_step = ws.dv - ws.dv_iterate;
+    double alpha = 1.0, e_new = objective(ws.dv);
+    for (int halving = 0; halving < 20 && e_new > e_current; ++halving) {
+      alpha *= 0.5;
+      ws.dv = ws.dv_iterate + alpha * ws.dv_step;
+      e_new = objective(ws.dv);
     }
-    if (!changed) break;
+    const double moved = alpha * ws.dv_step.cwiseAbs().maxCoeff();
+    if (e_new <= e_current) {
+      ws.dv_iterate = ws.dv;
+      e_current = e_new;
+    }
+    if (moved < settings.tolerance * eps || e_new > e_current) break;
   }
-  // The impulse of every friction vertex, sticking or sliding, with the constraints'.
-  for (std::size_t k = 0; k < nf; ++k)
-    if (!ws.held[static_cast<std::size_t>(friction[k].vertex)])
-      state.constraint_impulse.row(friction[k].vertex) = outcome.impulse[k].transpose();
+  ws.dv = ws.dv_iterate;
+
+  // Outcome: sticking vertices move with their surface (the smoothing's creep below ε removed),
+  // friction impulses −B·φ'(s)·ŵ.
+  outcome.sticking.assign(nf, 0);
+  outcome.impulse.assign(nf, Vec3::Zero());
+  ws.all_constraints.assign(constraints.begin(), constraints.end());
+  constraint_impulses(model, constraints, ws, state.constraint_impulse);
+  for (std::size_t k = 0; k < nf; ++k) {
+    if (!active(k)) continue;
+    const FrictionConstraint& f = friction[k];
+    const Vec3 w = slip(k, ws.dv);
+    const double sl = w.norm();
+    outcome.impulse[k] = sl < eps ? Vec3(-f.max_impulse / eps * w) : Vec3(-f.max_impulse / sl * w);
+    outcome.sticking[k] = sl < eps ? 1 : 0;
+    if (outcome.sticking[k]) ws.all_constraints.push_back({f.vertex, f.surface_velocity, f.normal});
+    state.constraint_impulse.row(f.vertex) = outcome.impulse[k].transpose();
+  }
   take_velocities(model, ws.all_constraints, ws, state);
   return report;
 }

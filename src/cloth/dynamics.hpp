@@ -19,10 +19,10 @@ struct VelocityConstraint {
   Vec3 free_direction{Vec3::Zero()};  ///< unit direction left to the dynamics, or zero (none)
 };
 
-/// Coulomb friction of a vertex against a surface, solved inside the implicit step: the vertex
-/// sticks (its tangential velocity is the surface's, its normal velocity free) while the
-/// tangential impulse that takes is at most `max_impulse`; otherwise it slides and friction
-/// applies exactly `max_impulse` against its sliding velocity.
+/// Coulomb friction of a vertex against a surface, solved inside the implicit step. The vertex
+/// sticks (tangential velocity that of the surface) while that takes a tangential impulse of at
+/// most `max_impulse`; otherwise it slides and friction applies `max_impulse` against its
+/// sliding velocity. Its normal velocity is left to the dynamics.
 struct FrictionConstraint {
   int vertex{};                          ///< vertex index in [0, |V|)
   Vec3 normal{Vec3::UnitZ()};            ///< unit contact normal (sign irrelevant)
@@ -30,11 +30,18 @@ struct FrictionConstraint {
   double max_impulse{};                  ///< μ·Σ fN·h, the friction impulse bound [N·s], ≥ 0
 };
 
+/// How the friction of a solve is solved.
+struct FrictionSettings {
+  double stick_velocity{1e-4};  ///< ε: slip speeds below it count as sticking [m/s], > 0
+  int max_iterations{12};       ///< Newton iterations (each one linear solve), ≥ 1
+  double tolerance{0.1};        ///< stop when no velocity changes by more than tolerance·ε
+};
+
 /// Outcome of the friction constraints of a solve, in their order.
 struct FrictionOutcome {
-  std::vector<char> sticking;  ///< 1 = stuck to its surface, 0 = sliding (or not solved)
-  std::vector<Vec3> impulse;   ///< tangential friction impulse applied [N·s]
-  int rounds{};                ///< active-set rounds (linear solves) taken
+  std::vector<char> sticking;  ///< 1 = moves with its surface, 0 = sliding (or held elsewhere)
+  std::vector<Vec3> impulse;   ///< friction impulse applied [N·s], zero when held elsewhere
+  int iterations{};            ///< Newton iterations (linear solves) taken
 };
 
 /// Outcome of a dynamics solve. A failed solve never aborts: ok = false and `message` says why.
@@ -58,18 +65,19 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
                                 const Vec3& gravity,
                                 std::span<const VelocityConstraint> constraints);
 
-/// solve_velocities with Coulomb friction in the implicit step (DESIGN.md, friction of held
-/// vertices): an active set over `friction`. Every vertex starts stuck; a stuck vertex whose
-/// tangential constraint impulse exceeds its bound slides with the bound along that impulse; a
-/// sliding vertex takes the bound against its tangential sliding velocity and sticks again when
-/// that velocity reverses. Repeats (re-solving the same assembled system) until no vertex
-/// changes, at most `max_rounds` times. Vertices also in `constraints` keep those. Writes v̄ into
-/// state.v and the outcome into `outcome`; on failure state.v is left unchanged.
+/// solve_velocities with Coulomb friction in the implicit step (paper §4.2's conditions, for
+/// vertices whose contact persists; the coupling uses it): Δv minimises the convex ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k‖w_k‖, w_k the tangential slip of
+/// friction vertex k at v + Δv and B_k its bound — the implicit Euler step whose friction
+/// impulses lie in their discs and oppose the slip (Coulomb) — with ‖w‖ smoothed below
+/// ε = settings.stick_velocity, by Newton's method with a line search from Δv = 0. Vertices that
+/// end below ε stick: they take their surface's tangential velocity exactly. Vertices also in
+/// `constraints` keep those, without friction. Writes v̄ into state.v, the friction impulses into
+/// state.constraint_impulse, and `outcome`; on failure state.v is left unchanged.
 DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
                                 const Vec3& gravity,
                                 std::span<const VelocityConstraint> constraints,
                                 std::span<const FrictionConstraint> friction,
-                                FrictionOutcome& outcome, int max_rounds = 8);
+                                FrictionOutcome& outcome, const FrictionSettings& settings = {});
 
 /// Moves the positions with the current velocities: x += h·v (`h` [s]).
 void advance_positions(ClothState& state, double h);

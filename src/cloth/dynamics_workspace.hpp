@@ -25,6 +25,8 @@ struct DynamicsWorkspace {
   Eigen::VectorXd base_rhs;
   std::vector<VelocityConstraint> all_constraints;
   std::vector<char> held;  ///< |V| flags of vertices held by the caller's velocity constraints
+  Eigen::VectorXd dv_iterate;  ///< friction Newton: current iterate
+  Eigen::VectorXd dv_step;     ///< friction Newton: step to the next iterate
   // Direct solver: the system's upper triangle in fill-reducing order.
   bool ldlt_ready{false};
   std::vector<int> ldlt_col_start;  ///< 3|V|+1

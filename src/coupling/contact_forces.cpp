@@ -44,6 +44,11 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
     }
     const std::size_t gi = static_cast<std::size_t>(it - groups.begin());
     weight.resize(groups.size(), 0.0);
+    if (w > it->record_weight) {
+      it->record_weight = w;
+      it->other_vertices = r.other_vertices;
+      it->other_weights = r.weights;
+    }
     it->normal += w * r.normal;
     it->other_velocity += w * r.other_velocity;
     it->repulsion_force += r.normal_impulse / h;
@@ -56,7 +61,56 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
   }
 }
 
-void assign_normal_forces(int cloth_meshes, double reach, WorldData& data) {
+namespace {
+
+/// Time constant of the low-pass filter on the DART normal force of each cloth vertex [s].
+constexpr double kForceFilterTime = 0.05;
+
+/// Low-passes each vertex's summed DART normal force over the steps it stays in contact. The
+/// per-step LCP impulse between a force-controlled finger and a patch re-placed from the cloth
+/// every step alternates between large and near-zero values (penetration correction one step,
+/// separation the next) around the squeeze force, its mean; Coulomb's bound follows the mean.
+void filter_normal_forces(int cloth_meshes, double h, WorldData& data) {
+  InterfaceScratch& s = data.interface;
+  const double alpha = std::min(1.0, h / kForceFilterTime);
+  s.force_filtered.resize(static_cast<std::size_t>(cloth_meshes));
+  s.force_step.resize(static_cast<std::size_t>(cloth_meshes));
+  for (int c = 0; c < cloth_meshes; ++c) {
+    const auto nv = static_cast<std::size_t>(data.meshes[static_cast<std::size_t>(c)].x0.rows());
+    s.force_filtered[static_cast<std::size_t>(c)].resize(nv, 0.0);
+    s.force_step[static_cast<std::size_t>(c)].resize(nv, -2);
+  }
+  std::vector<ContactGroup>& groups = s.groups;
+  std::size_t g = 0;
+  while (g < groups.size()) {
+    std::size_t end = g;
+    double raw = 0.0;
+    int taken = 0;
+    for (; end < groups.size() && groups[end].cloth == groups[g].cloth &&
+           groups[end].vertex == groups[g].vertex;
+         ++end)
+      if (groups[end].rigid_patch >= 0 || groups[end].rigid_contact >= 0) {
+        raw += groups[end].normal_force;
+        ++taken;
+      }
+    if (taken > 0) {
+      const auto c = static_cast<std::size_t>(groups[g].cloth);
+      const auto i = static_cast<std::size_t>(groups[g].vertex);
+      const bool continued = s.force_step[c][i] == data.step - 1;
+      const double f = continued ? s.force_filtered[c][i] + alpha * (raw - s.force_filtered[c][i]) : raw;
+      s.force_filtered[c][i] = f;
+      s.force_step[c][i] = data.step;
+      for (std::size_t k = g; k < end; ++k)
+        if (groups[k].rigid_patch >= 0 || groups[k].rigid_contact >= 0)
+          groups[k].normal_force = raw > 0.0 ? groups[k].normal_force * f / raw : f / taken;
+    }
+    g = end;
+  }
+}
+
+}  // namespace
+
+void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data) {
   std::vector<ContactGroup>& groups = data.interface.groups;
   const RigidSide& rigid = data.rigid;
   if (!rigid.world) return;
@@ -137,6 +191,49 @@ void assign_normal_forces(int cloth_meshes, double reach, WorldData& data) {
     }
     if (n.norm() > 0.0) g.normal = n.dot(g.normal) >= 0.0 ? Vec3(n.normalized()) : Vec3(-n.normalized());
   }
+  filter_normal_forces(cloth_meshes, h, data);
+}
+
+void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data) {
+  const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
+  InterfaceScratch& s = data.interface;
+  const auto nc = static_cast<std::size_t>(cloth_meshes);
+  s.friction.resize(nc);
+  s.friction_outcome.resize(nc);
+  for (auto& list : s.friction) list.clear();
+  const std::vector<ContactGroup>& groups = s.groups;
+  std::size_t g = 0;
+  while (g < groups.size()) {
+    std::size_t end = g;
+    while (end < groups.size() && groups[end].cloth == groups[g].cloth &&
+           groups[end].vertex == groups[g].vertex)
+      ++end;
+    const Vec3 n0 = groups[g].normal;
+    const collision::CollisionMesh& cloth = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
+    bool usable = true;
+    double bound = 0.0, weight = 0.0;
+    Vec3 u = Vec3::Zero();
+    for (std::size_t k = g; k < end && usable; ++k) {
+      const ContactGroup& cg = groups[k];
+      const int m = cg.other_mesh - cloth_meshes;
+      usable = m >= 0 && cg.other_vertices[0] >= 0 && n0.cross(cg.normal).norm() <= coplanar_sin;
+      if (!usable) break;
+      const rigid::ObstacleMesh& body = data.rigid.meshes[static_cast<std::size_t>(m)];
+      Vec3 v = Vec3::Zero();
+      for (std::size_t j = 0; j < 3; ++j)
+        if (cg.other_vertices[j] >= 0) v += cg.other_weights[static_cast<Eigen::Index>(j)] * body.v.row(cg.other_vertices[j]).transpose();
+      const double mu =
+          collision::pair_friction(cloth, data.meshes[static_cast<std::size_t>(cg.other_mesh)]);
+      bound += mu * cg.normal_force * h;
+      u += cg.normal_force * v;
+      weight += cg.normal_force;
+    }
+    if (usable && bound > 0.0 && weight > 0.0) {
+      const auto c = static_cast<std::size_t>(groups[g].cloth);
+      s.friction[c].push_back({groups[g].vertex, n0, u / weight, bound});
+    }
+    g = end;
+  }
 }
 
 int apply_friction(double h, double coplanar_deg, WorldData& data) {
@@ -153,7 +250,21 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       ++end;
     collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
     const int i = groups[g].vertex;
-    if (!collision::is_fixed(mesh, i)) {
+    const std::vector<std::uint8_t>& solved =
+        data.interface.friction_state[static_cast<std::size_t>(groups[g].cloth)];
+    const std::uint8_t implicit = solved.empty() ? 0 : solved[static_cast<std::size_t>(i)];
+    if (implicit != 0 && !collision::is_fixed(mesh, i)) {
+      // Friction already solved in the implicit step: a stuck vertex is position-constrained
+      // unless it is still closing on a surface.
+      const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
+      bool closing = false;
+      for (std::size_t k = g; k < end; ++k)
+        closing = closing || (v - groups[k].other_velocity).dot(groups[k].normal) < 0.0;
+      if (implicit == 1 && !closing) {
+        mesh.frozen[static_cast<std::size_t>(i)] = 1;
+        ++frozen;
+      }
+    } else if (!collision::is_fixed(mesh, i)) {
       const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
       const int count = static_cast<int>(std::min<std::size_t>(end - g, kMaxVertexContacts));
       for (int k = 0; k < count; ++k) {

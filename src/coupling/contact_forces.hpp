@@ -19,12 +19,21 @@ void group_contacts(int cloth_meshes, double h, WorldData& data);
 /// from the vertex are not taken. A vertex of a patch pressed on that body takes the patch
 /// contact's resultant (the sum over DART's manifold points, whose split among the points is
 /// not determined by the LCP), shared among the patch's vertices touching the body. The group
-/// normal becomes DART's contact normal, the direction of fN.
-void assign_normal_forces(int cloth_meshes, double reach, WorldData& data);
+/// normal becomes DART's contact normal, the direction of fN. Each vertex's DART force is
+/// low-passed (time constant 50 ms; step `h` [s]) while the vertex stays in contact.
+void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data);
+
+/// Friction of the vertices already touching rigid bodies, for the next implicit step: from the
+/// last step's groups, a vertex whose contacts are all with rigid bodies and coplanar (within
+/// `coplanar_deg`) gets one constraint: its contact normal, the fN-weighted velocity of the
+/// touching surfaces now, and the bound Σ μ·fN·h. Fills data.interface.friction per cloth.
+/// The first step of a contact has no such constraint and goes through apply_friction.
+void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data);
 
 /// Paper §4.2 and §3: solves each vertex's friction NCP on the candidate velocity (x1 − x0)/h,
 /// moves x1 by h·Δv, and freezes (position-constrains) vertices in static friction. Returns the
-/// number of frozen vertices. Contact planes of one vertex within `coplanar_deg` of each other
+/// number of frozen vertices. Vertices whose friction the implicit step solved
+/// (data.interface.friction_state) are not solved again; those that stuck are frozen. Contact planes of one vertex within `coplanar_deg` of each other
 /// are one plane, as the vertices of one rigid cloth patch are (paper §5, δn).
 int apply_friction(double h, double coplanar_deg, WorldData& data);
 

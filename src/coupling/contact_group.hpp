@@ -1,6 +1,10 @@
 #pragma once
 /// Per-vertex contact groups handed from contact detection to the paper's interface.
+#include <array>
+#include <cstdint>
 #include <vector>
+
+#include "cloth/dynamics.hpp"
 
 #include "core/types.hpp"
 
@@ -18,6 +22,11 @@ struct ContactGroup {
   double normal_force{};             ///< fN used for friction [N]
   int rigid_contact{-1};             ///< DART contact taken (index into that body's contacts), or -1
   int rigid_patch{-1};               ///< pool patch whose contact resultant is shared, or -1
+  /// The other side's vertices and weights of the group's heaviest record, to read the surface's
+  /// velocity again at the next step.
+  std::array<int, 3> other_vertices{-1, -1, -1};
+  Vec3 other_weights{Vec3::Zero()};
+  double record_weight{};            ///< weight of that record
 };
 
 /// Scratch of the interface, kept between steps so a step does not allocate.
@@ -29,6 +38,13 @@ struct InterfaceScratch {
   std::vector<std::vector<int>> patch_of;  ///< per cloth, per vertex: pool patch holding it, or −1
   std::vector<std::vector<double>> patch_force;  ///< per rigid mesh, per pool patch: Σ f_n [N]
   std::vector<std::vector<int>> patch_takers;    ///< per rigid mesh, per pool patch: vertices
+  // Friction of vertices already in contact, solved inside the next implicit step, per cloth.
+  std::vector<std::vector<cloth::FrictionConstraint>> friction;
+  std::vector<cloth::FrictionOutcome> friction_outcome;
+  /// Per cloth, per vertex: 0 not in the implicit friction, 1 stuck, 2 sliding (last step).
+  std::vector<std::vector<std::uint8_t>> friction_state;
+  std::vector<std::vector<double>> force_filtered;  ///< per cloth, per vertex: filtered DART fN [N]
+  std::vector<std::vector<long>> force_step;        ///< per cloth, per vertex: step it was set
 };
 
 }  // namespace dexcloth::coupling

@@ -49,13 +49,34 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
 }
 
 /// ClothDynamics (Algorithm 1): candidate velocities v̄ of every cloth, handles as constraints.
+/// In the bai-liu coupling, vertices that touched rigid bodies at the last step carry their
+/// Coulomb friction (the paper's §4.2 conditions, same fN and μ) into the implicit solve: a
+/// pinch then holds the load the whole cloth puts on it. The paper's per-vertex NCP after the
+/// solve sees only one vertex's share of a cloth that falls freely in the solve, so a strip
+/// slid out of a gripper at 1.5 N*; it still handles each contact's first step.
 void cloth_dynamics(const WorldModel& model, WorldData& data) {
+  const bool bai_liu = model.mode == CouplingMode::bai_liu;
+  InterfaceScratch& s = data.interface;
+  if (bai_liu) friction_constraints(static_cast<int>(model.cloths.size()), model.dt, kCoplanarDeg, data);
+  s.friction_state.resize(model.cloths.size());
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothBody& body = model.cloths[c];
     cloth::ClothState& state = data.cloths[c];
     handle_constraints(body, state, data.time + model.dt, model.dt, data.scratch_constraints);
-    const cloth::DynamicsReport report = cloth::solve_velocities(
-        body.model, state, model.dt, model.gravity, data.scratch_constraints);
+    std::vector<std::uint8_t>& solved = s.friction_state[c];
+    solved.assign(static_cast<std::size_t>(state.x.rows()), 0);
+    cloth::DynamicsReport report;
+    if (bai_liu && !s.friction[c].empty()) {
+      report = cloth::solve_velocities(body.model, state, model.dt, model.gravity,
+                                       data.scratch_constraints, s.friction[c], s.friction_outcome[c]);
+      if (report.ok)
+        for (std::size_t k = 0; k < s.friction[c].size(); ++k)
+          solved[static_cast<std::size_t>(s.friction[c][k].vertex)] =
+              s.friction_outcome[c].sticking[k] ? 1 : 2;
+    } else {
+      report = cloth::solve_velocities(body.model, state, model.dt, model.gravity,
+                                       data.scratch_constraints);
+    }
     if (!report.ok) data.warnings.add(data.step, body.name + ": " + report.message);
   }
 }
@@ -155,7 +176,7 @@ void step(const WorldModel& model, WorldData& data) {
   group_contacts(cloths, h, data);
   data.stats.sticking = 0;
   if (bai_liu) {
-    assign_normal_forces(cloths, model.clusters.distance, data);
+    assign_normal_forces(cloths, model.clusters.distance, h, data);
     data.stats.sticking = apply_friction(h, kCoplanarDeg, data);
   }
   data.timings.interface += clock.lap();

@@ -3,10 +3,8 @@
 /// scenes/gripper_pinch.json through the CLI with the squeeze force swept around
 /// N* = m g / (2 μ) = 0.15·0.05·0.30·9.81 / (2·0.5) = 0.0221 N.
 ///
-/// Known failure, kept visible as DISABLED_ tests until it is fixed: at 1.1 and 1.5 N* the strip
-/// still slides out of the jaws (≈1 cm by 1.0 s, gone by 2 s). The per-vertex NCP runs after an
-/// implicit solve that does not know the pinched vertices are held, so each step it sees only a
-/// vertex's share of a freely falling strip, and partial slip cascades row by row.
+/// The pinched vertices' friction is solved inside the implicit cloth step (they carry the load
+/// of the whole strip), with the DART squeeze force low-passed over 50 ms.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -50,7 +48,7 @@ double slip(const nlohmann::json& s, double t0, double t1) {
 
 }  // namespace
 
-TEST(Pinch, DISABLED_HeldAboveTheCoulombThresholdWithoutIntersections) {
+TEST(Pinch, HeldAboveTheCoulombThresholdWithoutIntersections) {
   for (double factor : {1.1, 1.5}) {
     const auto s = pinch(factor * kThreshold, "bai-liu", "--duration 2.0");
     // Released at 0.8 s; held still from 1.0 s to 2.0 s.
@@ -66,7 +64,7 @@ TEST(Pinch, DropsBelowTheCoulombThreshold) {
   EXPECT_GT(slip(s, 0.8, 2.0), 0.02);
 }
 
-TEST(Pinch, DISABLED_NoCreepAtOneAndAHalfTimesTheThreshold) {
+TEST(Pinch, NoCreepAtOneAndAHalfTimesTheThreshold) {
   // Lift postponed so the gripper holds still from 1.0 s to 3.0 s.
   const auto s = pinch(1.5 * kThreshold, "bai-liu",
                        "--duration 3.0 --set /bodies/0/controller/joint_pd/keyframes/1/t=3.5 "

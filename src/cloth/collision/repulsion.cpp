@@ -124,12 +124,14 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
       // Velocity and weights of the touching point on the other side.
       Vec3 other_velocity = Vec3::Zero();
       Vec3 weights = Vec3::Zero();
+      std::array<int, 3> other_vertices{-1, -1, -1};
       double other_weight = 0.0;
       for (int k = other_begin; k < other_end; ++k) other_weight += std::abs(p.w[k]);
       for (int k = other_begin; k < other_end; ++k) {
         const double wk = std::abs(p.w[k]) / other_weight;
         other_velocity += wk * velocity(*c.mesh[static_cast<std::size_t>(k)], c.vertex[static_cast<std::size_t>(k)], h);
         weights[k - other_begin] = wk;
+        other_vertices[static_cast<std::size_t>(k - other_begin)] = c.vertex[static_cast<std::size_t>(k)];
       }
       for (int k = begin; k < end; ++k) {
         if (p.w[k] == 0.0) continue;
@@ -147,6 +149,7 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
         vc.friction_impulse = std::abs(p.w[k]) * friction[i];
         vc.face_or_edge = side == 0 ? p.second : p.first;
         vc.weights = weights;
+        vc.other_vertices = other_vertices;
         contacts.push_back(vc);
       }
     }

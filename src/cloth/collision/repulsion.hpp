@@ -2,6 +2,7 @@
 /// Proximity response on the candidate velocities (Bridson et al. 2002, §7.2): inelastic and
 /// spring repulsion impulses, Coulomb friction capped per step (the `kinematic` baseline), and the
 /// per-vertex contact records the cloth–rigid coupling consumes.
+#include <array>
 #include <vector>
 
 #include "cloth/collision/collision_mesh.hpp"
@@ -43,6 +44,8 @@ struct VertexContact {
                                ///< (EdgeEdge, index into its MeshTopology::edges)
   Vec3 weights{Vec3::Zero()};  ///< barycentric weights of the touching point on the other side:
                                ///< face (VertexFace), (1,0,0) (FaceVertex), (1−u, u, 0) (EdgeEdge)
+  std::array<int, 3> other_vertices{-1, -1, -1};  ///< the other side's vertices those weigh (−1:
+                                                  ///< unused)
 };
 
 /// Applies repulsion (and, with `options.friction`, friction) impulses for every pair in
