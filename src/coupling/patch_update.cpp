@@ -76,6 +76,7 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     s.v_W = patch.linear_velocity;
     s.w_W = patch.angular_velocity;
     s.mass = patch.mass;
+    s.layer = patch.cloth;  // patches of stacked cloths press on each other
     pool.set(placed++, s);
   }
   return placed;

@@ -19,6 +19,7 @@ void PatchPool::set(int i, const PatchState& state) {
   DEXCLOTH_DEMAND(state.v_W.allFinite() && state.w_W.allFinite() && state.X_WP.matrix().allFinite());
   detail::PatchRecord& p = m_world->patches[static_cast<std::size_t>(i)];
   p.active = true;
+  p.layer = state.layer;
   // Geometry and inertia of a thin box (paper §5: thickness = cloth thickness).
   const Vec3 size(state.extents.x(), state.extents.y(), state.thickness);
   if (!p.box->getSize().isApprox(size)) p.box->setSize(size);

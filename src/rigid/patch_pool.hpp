@@ -23,6 +23,10 @@ struct PatchState {
   Vec3 v_W{Vec3::Zero()};                               ///< velocity of the centre [m/s]
   Vec3 w_W{Vec3::Zero()};                               ///< angular velocity [rad/s]
   double mass{1.0e-3};                                  ///< [kg], > 0
+  /// Patches of the same layer never collide with each other; of different layers they do
+  /// (the coupling gives each cloth its own layer, so held stacked sheets keep their patches
+  /// apart and fingers cannot close through the stack).
+  int layer{0};
 };
 
 /// The pool, owned by a RigidWorld (RigidWorld::patches()). Capacity is fixed at construction.

@@ -117,8 +117,11 @@ bool CollisionFilter::ignoresCollision(const dart::collision::CollisionObject* o
     const int b2 = m_world->body_index(node2->getBodyNodePtr().get());
     const int p1 = b1 >= 0 ? m_world->bodies[static_cast<std::size_t>(b1)].patch : -1;
     const int p2 = b2 >= 0 ? m_world->bodies[static_cast<std::size_t>(b2)].patch : -1;
-    // Patch rules (paper §5): no patch–patch pairs; inactive patches collide with nothing.
-    if (p1 >= 0 && p2 >= 0) return true;
+    // Patch rules (paper §5): no pairs of patches of one layer (one cloth); inactive patches
+    // collide with nothing.
+    if (p1 >= 0 && p2 >= 0 &&
+        m_world->patches[static_cast<std::size_t>(p1)].layer == m_world->patches[static_cast<std::size_t>(p2)].layer)
+      return true;
     if (p1 >= 0 && !m_world->patches[static_cast<std::size_t>(p1)].active) return true;
     if (p2 >= 0 && !m_world->patches[static_cast<std::size_t>(p2)].active) return true;
   }

@@ -68,6 +68,27 @@ TEST(PatchPool, InactivePatchFeelsNothingAndPatchesIgnoreEachOther) {
   EXPECT_NEAR(s.world.pose_W(s.finger).translation().z(), 0.0075, 5e-4);
 }
 
+TEST(PatchPool, PatchesOfDifferentLayersStack) {
+  // Patch 1 (layer 1) lies on patch 0 (layer 0): the finger rests on top of both (z = 2 mm), and
+  // patch 0 carries the finger's weight down to the block through patch 1.
+  PatchScene s;
+  PatchState upper = s.patch;
+  upper.layer = 1;
+  upper.X_WP.translation() = Vec3(0, 0, 0.0015);
+  s.world.set_free_body_state(s.finger, Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, 0.002 + 0.0075)),
+                              Vec3::Zero(), Vec3::Zero());
+  for (int i = 0; i < 100; ++i) {
+    s.world.patches().set(0, s.patch);
+    s.world.patches().set(1, upper);
+    s.world.step();
+  }
+  EXPECT_NEAR(s.world.pose_W(s.finger).translation().z(), 0.002 + 0.0075, 5e-4);
+  Vec3 from_upper = Vec3::Zero();
+  for (const auto& c : s.world.patches().contacts(0))
+    if (c.other == s.world.patches().body(1)) from_upper += c.f_W;
+  EXPECT_NEAR(from_upper.z(), -0.05 * 9.81, 0.05 * 0.05 * 9.81);
+}
+
 TEST(PatchPool, ResizedPatchCollidesWithItsNewSize) {
   // A patch made wider after creation must support a finger resting off its old extent.
   PatchScene s;

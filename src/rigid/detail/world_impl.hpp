@@ -48,12 +48,13 @@ struct PatchRecord {
   int body{-1};
   int skeleton{-1};
   bool active{false};
+  int layer{0};  ///< PatchState::layer
   std::shared_ptr<dart::dynamics::BoxShape> box;
   Eigen::Isometry3d X_W_park{Eigen::Isometry3d::Identity()};  ///< where an inactive patch waits
 };
 
 /// Collision filter: DART's body-node rules (adjacent links, self collision, black list) plus
-/// the patch rules (no patch–patch pairs, inactive patches collide with nothing).
+/// the patch rules (no pairs of patches of one layer, inactive patches collide with nothing).
 class CollisionFilter final : public dart::collision::BodyNodeCollisionFilter {
  public:
   explicit CollisionFilter(const WorldImpl& world) : m_world(&world) {}
