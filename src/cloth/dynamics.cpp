@@ -370,8 +370,9 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
     return e;
   };
 
-  // Newton iterations from Δv = 0 (the last velocity; a vertex that stuck starts stuck).
-  ws.dv_iterate = Eigen::VectorXd::Zero(3 * nv);
+  // Newton iterations from the last step's Δv (a warm start for the linear solves too; a vertex
+  // that stuck starts stuck when its motion repeats).
+  ws.dv_iterate = ws.dv;
   double e_current = objective(ws.dv_iterate);
   DynamicsReport report;
   outcome.iterations = 0;

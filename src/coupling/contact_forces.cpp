@@ -216,7 +216,8 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
     for (std::size_t k = g; k < end && usable; ++k) {
       const ContactGroup& cg = groups[k];
       const int m = cg.other_mesh - cloth_meshes;
-      usable = m >= 0 && cg.other_vertices[0] >= 0 && n0.cross(cg.normal).norm() <= coplanar_sin;
+      usable = m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)] &&
+               cg.other_vertices[0] >= 0 && n0.cross(cg.normal).norm() <= coplanar_sin;
       if (!usable) break;
       const rigid::ObstacleMesh& body = data.rigid.meshes[static_cast<std::size_t>(m)];
       Vec3 v = Vec3::Zero();

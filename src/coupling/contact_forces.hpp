@@ -23,11 +23,14 @@ void group_contacts(int cloth_meshes, double h, WorldData& data);
 /// low-passed (time constant 50 ms; step `h` [s]) while the vertex stays in contact.
 void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data);
 
-/// Friction of the vertices already touching rigid bodies, for the next implicit step: from the
-/// last step's groups, a vertex whose contacts are all with rigid bodies and coplanar (within
-/// `coplanar_deg`) gets one constraint: its contact normal, the fN-weighted velocity of the
-/// touching surfaces now, and the bound Σ μ·fN·h. Fills data.interface.friction per cloth.
-/// The first step of a contact has no such constraint and goes through apply_friction.
+/// Friction of the vertices held by hands and grippers, for the next implicit step: from the
+/// last step's groups, a vertex whose contacts are all with actuated bodies (skeletons of
+/// `bodies`) and coplanar (within `coplanar_deg`) gets one constraint: its contact normal, the
+/// fN-weighted velocity of the touching surfaces now, and the bound Σ μ·fN·h. Fills
+/// data.interface.friction per cloth. The first step of a contact, and contacts with props
+/// (tables, obstacles) or cloth, go through apply_friction: the friction of a resting or
+/// sliding cloth needs no load transfer through the solve, and each friction vertex costs
+/// Newton iterations of the whole cloth's system.
 void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data);
 
 /// Paper §4.2 and §3: solves each vertex's friction NCP on the candidate velocity (x1 − x0)/h,
