@@ -34,7 +34,7 @@ struct FrictionConstraint {
 struct FrictionSettings {
   double stick_velocity{1e-4};  ///< ε: slip speeds below it count as sticking [m/s], > 0
   int max_iterations{12};       ///< Newton iterations (each one linear solve), ≥ 1
-  double tolerance{0.1};        ///< stop when no velocity changes by more than tolerance·ε
+  double tolerance{1.0};        ///< stop when no velocity changes by more than tolerance·ε
 };
 
 /// Outcome of the friction constraints of a solve, in their order.
