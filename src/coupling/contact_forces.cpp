@@ -176,6 +176,7 @@ void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& d
   // group's: the friction plane is the one orthogonal to fN. The proximity records' normals tilt
   // near mesh edges and would give the two jaws of a pinch non-parallel planes.
   for (ContactGroup& g : groups) {
+    if (g.other_mesh < cloth_meshes) continue;  // cloth–cloth: the repulsion force stays
     const auto m = static_cast<std::size_t>(g.other_mesh - cloth_meshes);
     const auto& contacts = rigid.world->contacts(rigid.mesh_body[m]);
     Vec3 n = Vec3::Zero();
