@@ -63,6 +63,26 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
 
 namespace {
 
+/// End of the run of groups of the vertex whose first group is `first` (the groups of one vertex
+/// are consecutive).
+std::size_t vertex_end(const std::vector<ContactGroup>& groups, std::size_t first) {
+  std::size_t end = first;
+  while (end < groups.size() && groups[end].cloth == groups[first].cloth &&
+         groups[end].vertex == groups[first].vertex)
+    ++end;
+  return end;
+}
+
+/// Whether the group took a DART contact force (§4.1) rather than the repulsion force.
+bool takes_dart_force(const ContactGroup& g) { return g.rigid_patch >= 0 || g.rigid_contact >= 0; }
+
+/// Whether velocity `v` still closes on any of the surfaces of groups [first, end).
+bool closing(const std::vector<ContactGroup>& groups, std::size_t first, std::size_t end, const Vec3& v) {
+  for (std::size_t k = first; k < end; ++k)
+    if ((v - groups[k].other_velocity).dot(groups[k].normal) < 0.0) return true;
+  return false;
+}
+
 /// Time constant of the low-pass filter on the DART normal force of each cloth vertex [s].
 constexpr double kForceFilterTime = 0.05;
 
@@ -83,14 +103,12 @@ void filter_normal_forces(int cloth_meshes, double h, WorldData& data) {
   std::vector<ContactGroup>& groups = s.groups;
   std::size_t g = 0;
   while (g < groups.size()) {
-    std::size_t end = g;
+    const std::size_t end = vertex_end(groups, g);
     double raw = 0.0;
     int taken = 0;
-    for (; end < groups.size() && groups[end].cloth == groups[g].cloth &&
-           groups[end].vertex == groups[g].vertex;
-         ++end)
-      if (groups[end].rigid_patch >= 0 || groups[end].rigid_contact >= 0) {
-        raw += groups[end].normal_force;
+    for (std::size_t k = g; k < end; ++k)
+      if (takes_dart_force(groups[k])) {
+        raw += groups[k].normal_force;
         ++taken;
       }
     if (taken > 0) {
@@ -101,7 +119,7 @@ void filter_normal_forces(int cloth_meshes, double h, WorldData& data) {
       s.force_filtered[c][i] = f;
       s.force_step[c][i] = data.step;
       for (std::size_t k = g; k < end; ++k)
-        if (groups[k].rigid_patch >= 0 || groups[k].rigid_contact >= 0)
+        if (takes_dart_force(groups[k]))
           groups[k].normal_force = raw > 0.0 ? groups[k].normal_force * f / raw : f / taken;
     }
     g = end;
@@ -205,10 +223,7 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
   const std::vector<ContactGroup>& groups = s.groups;
   std::size_t g = 0;
   while (g < groups.size()) {
-    std::size_t end = g;
-    while (end < groups.size() && groups[end].cloth == groups[g].cloth &&
-           groups[end].vertex == groups[g].vertex)
-      ++end;
+    const std::size_t end = vertex_end(groups, g);
     const Vec3 n0 = groups[g].normal;
     const collision::CollisionMesh& cloth = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
     bool usable = true;
@@ -245,11 +260,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
   std::array<FrictionContact, kMaxVertexContacts> contacts;
   std::size_t g = 0;
   while (g < groups.size()) {
-    // The groups of one vertex are consecutive.
-    std::size_t end = g;
-    while (end < groups.size() && groups[end].cloth == groups[g].cloth &&
-           groups[end].vertex == groups[g].vertex)
-      ++end;
+    const std::size_t end = vertex_end(groups, g);
     collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
     const int i = groups[g].vertex;
     const std::vector<std::uint8_t>& solved =
@@ -259,10 +270,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       // Friction already solved in the implicit step: a stuck vertex is position-constrained
       // unless it is still closing on a surface.
       const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
-      bool closing = false;
-      for (std::size_t k = g; k < end; ++k)
-        closing = closing || (v - groups[k].other_velocity).dot(groups[k].normal) < 0.0;
-      if (implicit == 1 && !closing) {
+      if (implicit == 1 && !closing(groups, g, end, v)) {
         mesh.frozen[static_cast<std::size_t>(i)] = 1;
         ++frozen;
       }
@@ -283,13 +291,8 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       // Static friction: a position constraint through the refinement steps (paper §3, §7.2).
       // Never freeze a vertex still closing on a surface: the impact zones must be free to stop
       // it (a frozen vertex driven into an obstacle cannot be resolved).
-      bool closing = false;
-      const Vec3 v_new = v + r.delta_v;
-      for (int k = 0; k < count; ++k) {
-        const ContactGroup& cg = groups[g + static_cast<std::size_t>(k)];
-        closing = closing || (v_new - cg.other_velocity).dot(cg.normal) < 0.0;
-      }
-      if (r.which == FrictionCase::static_at && !closing) {
+      if (r.which == FrictionCase::static_at &&
+          !closing(groups, g, g + static_cast<std::size_t>(count), v + r.delta_v)) {
         mesh.frozen[static_cast<std::size_t>(i)] = 1;
         ++frozen;
       }
