@@ -15,6 +15,21 @@ Vec3 contact_normal(const Vec3& gap, const Vec3& geometric) {
   return Vec3::UnitZ();
 }
 
+// Cloth–cloth pairs must be across the surface, not along it: in a flat sheet a vertex lies
+// within the thickness of the diagonal edge of a non-incident triangle (h/√2 on a grid of
+// spacing h), and parallel edges of neighbouring rows have interior closest points. Such
+// in-plane pairs are not contacts (ARCSim likewise measures vertex–face distance along the
+// face normal and edge–edge distance along the edges' common perpendicular). A pair counts when
+// its gap makes at most 60° with the face normal (vertex–face) or with e_a × e_b (edge–edge).
+constexpr double kMinAcrossCosine = 0.5;
+
+bool across_surface(const Vec3& gap, const Vec3& direction) {
+  const double g = gap.norm(), d = direction.norm();
+  if (g < 1e-14) return true;             // touching: keep, the normal comes from geometry
+  if (d < 1e-14 * (1.0 + g)) return false; // degenerate face or parallel edges
+  return std::abs(gap.dot(direction)) >= kMinAcrossCosine * g * d;
+}
+
 }  // namespace
 
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
@@ -33,6 +48,8 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
     const Vec3 gap = p - (bary[0] * xa + bary[1] * xb + bary[2] * xc);
     const double dist = gap.norm();
     if (dist >= thickness) continue;
+    const bool cloth_pair = !vm.obstacle && !fm.obstacle;
+    if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) continue;
     Proximity prox;
     prox.edge_edge = false;
     prox.mesh = {c.vertex_mesh, c.face_mesh};
@@ -59,6 +76,8 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
     const Vec3 gap = (p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0));
     const double dist = gap.norm();
     if (dist >= thickness) continue;
+    const bool cloth_pair = !ma.obstacle && !mb.obstacle;
+    if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) continue;
     Proximity prox;
     prox.edge_edge = true;
     prox.mesh = {c.mesh_a, c.mesh_b};

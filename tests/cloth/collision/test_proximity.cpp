@@ -1,0 +1,70 @@
+#include <gtest/gtest.h>
+
+#include "cloth/collision/collision_candidates.hpp"
+#include "cloth/collision/proximity.hpp"
+#include "mesh_builders.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::collision;
+using namespace dexcloth::collision::testing;
+
+namespace {
+
+std::vector<Proximity> proximities(const std::vector<const CollisionMesh*>& meshes, double thickness) {
+  CollisionCandidates candidates;
+  std::vector<Proximity> out;
+  find_proximities(meshes, thickness, candidates, out);
+  return out;
+}
+
+}  // namespace
+
+TEST(Proximity, FlatSheetHasNoInPlaneSelfPairs) {
+  // Grid spacing h = 5 mm: a vertex is h/√2 = 3.5 mm from the diagonal of a non-incident
+  // triangle, and parallel diagonals are 3.5 mm apart. With a 4.5 mm thickness these in-plane
+  // neighbours are within the thickness but are not contacts.
+  CollisionMesh sheet = make_sheet(20, 20, 0.1, 0.1, Vec3::Zero(), 1e-4);
+  EXPECT_TRUE(proximities({&sheet}, 4.5e-3).empty());
+  // A gently curved sheet (1 mm bumps) has none either.
+  for (int v = 0; v < sheet.x0.rows(); ++v) {
+    sheet.x0(v, 2) = 1e-3 * std::sin(60.0 * sheet.x0(v, 0)) * std::cos(45.0 * sheet.x0(v, 1));
+  }
+  sheet.x1 = sheet.x0;
+  EXPECT_TRUE(proximities({&sheet}, 4.5e-3).empty());
+}
+
+TEST(Proximity, StackedSheetsMeetAcrossTheirSurfaces) {
+  // Two sheets 2 mm apart, offset in-plane: every pair is across the gap (within 60° of ±z,
+  // exactly ±z at 2 mm where the closest point is interior) and every vertex of the upper sheet
+  // that lies over the lower one has a vertex–face pair.
+  CollisionMesh a = make_sheet(10, 10, 0.05, 0.05, Vec3(0, 0, 0), 1e-4);
+  CollisionMesh b = make_sheet(10, 10, 0.05, 0.05, Vec3(0.0012, 0.0021, 2e-3), 1e-4);
+  const std::vector<Proximity> found = proximities({&a, &b}, 4.5e-3);
+  ASSERT_FALSE(found.empty());
+  std::vector<int> over(static_cast<std::size_t>(b.x0.rows()), 0);
+  for (const Proximity& p : found) {
+    EXPECT_GE(std::abs(p.normal.z()), 0.5);
+    EXPECT_GE(p.distance, 2e-3 - 1e-12);
+    if (p.distance < 2e-3 + 1e-12) {
+      EXPECT_NEAR(std::abs(p.normal.z()), 1.0, 1e-9);
+    }
+    if (!p.edge_edge && p.mesh[0] == 1) over[static_cast<std::size_t>(p.first)] = 1;
+  }
+  for (int v = 0; v < b.x0.rows(); ++v) {
+    const bool inside = b.x0(v, 0) <= 0.05 && b.x0(v, 1) <= 0.05;
+    if (inside) {
+      EXPECT_EQ(over[static_cast<std::size_t>(v)], 1) << "vertex " << v;
+    }
+  }
+}
+
+TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
+  // A cloth vertex beside an obstacle box's top edge (closest point on the edge, gap at 45°
+  // from the top face) is a contact: the across-surface test applies to cloth pairs only.
+  const CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
+  CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(0.002, 0.0, 0.002), 1e-4);
+  const std::vector<Proximity> found = proximities({&cloth, &box}, 5e-3);
+  bool vertex0 = false;
+  for (const Proximity& p : found) vertex0 = vertex0 || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0);
+  EXPECT_TRUE(vertex0);
+}
