@@ -19,6 +19,13 @@ DUMMY_INERTIA = 2.0e-8
 DAMPING = 0.002             # joint viscous damping [N·m·s/rad]
 EFFORT = 5.0                # [N·m] informational; dexcloth does not clamp controller torques
 VELOCITY = 20.0             # [rad/s] informational
+# Skin pads (the thumb pulp, the radial side of the index middle phalanx): skin flattens in a
+# pinch, so a flat face rather than a capsule's line carries a pinched cloth.
+PAD_LENGTH = 0.014
+PAD_WIDTH_FRACTION = 0.75
+PAD_THICKNESS = 0.004
+PAD_PROUD = 0.0005
+PAD_FORWARD = 0.002
 
 
 def capsule_inertia(m, r, length):
@@ -52,17 +59,34 @@ def dummy_link(name):
          f'  </link>')
 
 
-def bone_link(name, mass, radius, length):
-    """A phalanx or metacarpal along local +x from the joint: capsule segment [0, length]."""
+def pad_box(radius, length, side):
+    """A flattened skin pad: a thin box whose outer face lies PAD_PROUD outside the capsule, on
+    the palmar (-z) side of a distal phalanx (the pulp) or the radial (+y) side of the index
+    middle phalanx (where a key pinch holds). Centre and size in the link frame."""
+    width = PAD_WIDTH_FRACTION * 2.0 * radius
+    offset = radius + PAD_PROUD - PAD_THICKNESS / 2
+    if side == "palmar":
+        return (length / 2 + PAD_FORWARD, 0.0, -offset), (PAD_LENGTH, width, PAD_THICKNESS)
+    return (length / 2 + PAD_FORWARD, offset, 0.0), (PAD_LENGTH, PAD_THICKNESS, width)
+
+
+def bone_link(name, mass, radius, length, pad=None):
+    """A phalanx or metacarpal along local +x from the joint: capsule segment [0, length]; pad
+    ("palmar" or "radial") adds a skin pad box on that side."""
     ixx, iyy, izz = capsule_inertia(mass, radius, length)
+    shapes = (f'    <visual><origin xyz="{fmt(length / 2, 0, 0)}" rpy="0 1.5707963 0"/>'
+              f'<geometry><cylinder radius="{radius}" length="{length}"/></geometry></visual>\n'
+              f'    <collision><origin xyz="{fmt(length / 2, 0, 0)}" rpy="0 1.5707963 0"/>'
+              f'<geometry><cylinder radius="{radius}" length="{length}"/></geometry></collision>\n')
+    if pad:
+        centre, size = pad_box(radius, length, pad)
+        for tag in ("visual", "collision"):
+            shapes += (f'    <{tag}><origin xyz="{fmt(*centre)}" rpy="0 0 0"/>'
+                       f'<geometry><box size="{fmt(*size)}"/></geometry></{tag}>\n')
     emit(f'  <link name="{name}">\n'
          f'    <inertial><origin xyz="{fmt(length / 2, 0, 0)}" rpy="0 0 0"/><mass value="{mass}"/>'
          f'<inertia ixx="{ixx:.4g}" ixy="0" ixz="0" iyy="{iyy:.4g}" iyz="0" izz="{izz:.4g}"/></inertial>\n'
-         f'    <visual><origin xyz="{fmt(length / 2, 0, 0)}" rpy="0 1.5707963 0"/>'
-         f'<geometry><cylinder radius="{radius}" length="{length}"/></geometry></visual>\n'
-         f'    <collision><origin xyz="{fmt(length / 2, 0, 0)}" rpy="0 1.5707963 0"/>'
-         f'<geometry><cylinder radius="{radius}" length="{length}"/></geometry></collision>\n'
-         f'  </link>')
+         + shapes + '  </link>')
 
 
 def joint(name, parent, child, xyz, rpy, axis, lower, upper):
@@ -134,7 +158,7 @@ for name, mcp, lengths, radii, masses in fingers:
         joint(f"{name}_mcp_flex", f"{name}_mcp_link", f"{name}_proximal", ZERO, ZERO, Y, deg(-20), deg(90))
     bone_link(f"{name}_proximal", masses[0], radii[0], lengths[0])
     joint(f"{name}_pip", f"{name}_proximal", f"{name}_middle", (lengths[0], 0, 0), ZERO, Y, 0.0, deg(105))
-    bone_link(f"{name}_middle", masses[1], radii[1], lengths[1])
+    bone_link(f"{name}_middle", masses[1], radii[1], lengths[1], pad="radial" if name == "index" else None)
     joint(f"{name}_dip", f"{name}_middle", f"{name}_distal", (lengths[1], 0, 0), ZERO, Y, 0.0, deg(85))
     bone_link(f"{name}_distal", masses[2], radii[2], lengths[2])
 
@@ -153,7 +177,7 @@ dummy_link("thumb_mcp_link")
 joint("thumb_mcp_abd", "thumb_mcp_link", "thumb_proximal", ZERO, ZERO, Z, deg(-15), deg(15))
 bone_link("thumb_proximal", 0.012, 0.0100, 0.031)
 joint("thumb_ip", "thumb_proximal", "thumb_distal", (0.031, 0, 0), ZERO, Y, deg(-15), deg(80))
-bone_link("thumb_distal", 0.008, 0.0092, 0.017)
+bone_link("thumb_distal", 0.008, 0.0092, 0.017, pad="palmar")
 
 emit('</robot>')
 print("\n".join(out))
