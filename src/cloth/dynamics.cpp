@@ -243,6 +243,23 @@ void take_velocities(const ClothModel& model, std::span<const VelocityConstraint
   }
 }
 
+/// Checks the inputs every solve_velocities takes (programmer errors, always on).
+void demand_inputs(const ClothModel& model, const ClothState& state, double h,
+                   std::span<const VelocityConstraint> constraints) {
+  const int nv = model.num_vertices();
+  DEXCLOTH_DEMAND(h > 0.0);
+  DEXCLOTH_DEMAND(model.solver.threads >= 1);
+  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
+  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+}
+
+/// Gradient of B·φ(‖w‖) in the slip w, φ the norm smoothed below ε (s²/2ε + ε/2 there): the
+/// friction impulse is its negative.
+Vec3 friction_gradient(const Vec3& w, double bound, double eps) {
+  const double s = w.norm();
+  return s < eps ? Vec3(bound / eps * w) : Vec3(bound / s * w);
+}
+
 }  // namespace
 
 void assemble_system(const ClothModel& model, const ClothState& state, double h,
@@ -307,11 +324,7 @@ DynamicsReport solve_system(const ClothModel& model,
 DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,
                                 const Vec3& gravity,
                                 std::span<const VelocityConstraint> constraints) {
-  const int nv = model.num_vertices();
-  DEXCLOTH_DEMAND(h > 0.0);
-  DEXCLOTH_DEMAND(model.solver.threads >= 1);
-  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
-  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+  demand_inputs(model, state, h, constraints);
 
   // Assemble A·Δv = b, then solve it.
   DynamicsWorkspace& ws = state.scratch.get();
@@ -332,10 +345,8 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
                                 std::span<const FrictionConstraint> friction,
                                 FrictionOutcome& outcome, const FrictionSettings& settings) {
   const int nv = model.num_vertices();
-  DEXCLOTH_DEMAND(h > 0.0 && settings.stick_velocity > 0.0 && settings.max_iterations >= 1);
-  DEXCLOTH_DEMAND(model.solver.threads >= 1);
-  DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
-  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+  demand_inputs(model, state, h, constraints);
+  DEXCLOTH_DEMAND(settings.stick_velocity > 0.0 && settings.max_iterations >= 1);
   for (const FrictionConstraint& f : friction)
     DEXCLOTH_DEMAND(f.vertex >= 0 && f.vertex < nv && f.max_impulse >= 0.0 &&
                     std::abs(f.normal.norm() - 1.0) < 1e-6);
@@ -388,7 +399,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
       const Mat3 T = Mat3::Identity() - f.normal * f.normal.transpose();
       const Mat3 H = sl < eps ? Mat3(f.max_impulse / eps * T)
                               : Mat3(f.max_impulse / sl * (T - w * w.transpose() / (sl * sl)));
-      const Vec3 g = sl < eps ? Vec3(f.max_impulse / eps * w) : Vec3(f.max_impulse / sl * w);
+      const Vec3 g = friction_gradient(w, f.max_impulse, eps);
       ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(f.vertex)])] += H;
       ws.rhs.segment<3>(3 * f.vertex) += H * ws.dv_iterate.segment<3>(3 * f.vertex) - g;
     }
@@ -424,9 +435,8 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
     if (!active(k)) continue;
     const FrictionConstraint& f = friction[k];
     const Vec3 w = slip(k, ws.dv);
-    const double sl = w.norm();
-    outcome.impulse[k] = sl < eps ? Vec3(-f.max_impulse / eps * w) : Vec3(-f.max_impulse / sl * w);
-    outcome.sticking[k] = sl < eps ? 1 : 0;
+    outcome.impulse[k] = -friction_gradient(w, f.max_impulse, eps);
+    outcome.sticking[k] = w.norm() < eps ? 1 : 0;
     if (outcome.sticking[k]) ws.all_constraints.push_back({f.vertex, f.surface_velocity, f.normal});
     state.constraint_impulse.row(f.vertex) = outcome.impulse[k].transpose();
   }

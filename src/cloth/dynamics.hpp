@@ -66,10 +66,11 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
                                 std::span<const VelocityConstraint> constraints);
 
 /// solve_velocities with Coulomb friction in the implicit step (paper §4.2's conditions, for
-/// vertices whose contact persists; the coupling uses it): Δv minimises the convex ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k‖w_k‖, w_k the tangential slip of
-/// friction vertex k at v + Δv and B_k its bound — the implicit Euler step whose friction
-/// impulses lie in their discs and oppose the slip (Coulomb) — with ‖w‖ smoothed below
-/// ε = settings.stick_velocity, by Newton's method with a line search from Δv = 0. Vertices that
+/// vertices whose contact persists; the coupling uses it): Δv minimises the convex
+/// ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k‖w_k‖, w_k the tangential slip of friction vertex k at v + Δv and
+/// B_k its bound — the implicit Euler step whose friction impulses lie in their discs and
+/// oppose the slip (Coulomb) — with ‖w‖ smoothed below ε = settings.stick_velocity, by Newton's
+/// method with a backtracking line search, started from the last step's Δv. Vertices that
 /// end below ε stick: they take their surface's tangential velocity exactly. Vertices also in
 /// `constraints` keep those, without friction. Writes v̄ into state.v, the friction impulses into
 /// state.constraint_impulse, and `outcome`; on failure state.v is left unchanged.
