@@ -263,19 +263,22 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
     const std::size_t end = vertex_end(groups, g);
     collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
     const int i = groups[g].vertex;
+    if (collision::is_fixed(mesh, i)) {
+      g = end;
+      continue;
+    }
     const std::vector<std::uint8_t>& solved =
         data.interface.friction_state[static_cast<std::size_t>(groups[g].cloth)];
     const std::uint8_t implicit = solved.empty() ? 0 : solved[static_cast<std::size_t>(i)];
-    if (implicit != 0 && !collision::is_fixed(mesh, i)) {
+    const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
+    if (implicit != 0) {
       // Friction already solved in the implicit step: a stuck vertex is position-constrained
       // unless it is still closing on a surface.
-      const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
       if (implicit == 1 && !closing(groups, g, end, v)) {
         mesh.frozen[static_cast<std::size_t>(i)] = 1;
         ++frozen;
       }
-    } else if (!collision::is_fixed(mesh, i)) {
-      const Vec3 v = (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h;
+    } else {
       const int count = static_cast<int>(std::min<std::size_t>(end - g, kMaxVertexContacts));
       for (int k = 0; k < count; ++k) {
         const ContactGroup& cg = groups[g + static_cast<std::size_t>(k)];

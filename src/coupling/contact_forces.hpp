@@ -36,8 +36,9 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
 /// Paper §4.2 and §3: solves each vertex's friction NCP on the candidate velocity (x1 − x0)/h,
 /// moves x1 by h·Δv, and freezes (position-constrains) vertices in static friction. Returns the
 /// number of frozen vertices. Vertices whose friction the implicit step solved
-/// (data.interface.friction_state) are not solved again; those that stuck are frozen. Contact planes of one vertex within `coplanar_deg` of each other
-/// are one plane, as the vertices of one rigid cloth patch are (paper §5, δn).
+/// (data.interface.friction_state) are not solved again; those that stuck are frozen. Contact
+/// planes of one vertex within `coplanar_deg` of each other are one plane, as the vertices of one
+/// rigid cloth patch are (paper §5, δn).
 int apply_friction(double h, double coplanar_deg, WorldData& data);
 
 }  // namespace dexcloth::coupling
