@@ -59,11 +59,18 @@ TEST(Proximity, StackedSheetsMeetAcrossTheirSurfaces) {
 }
 
 TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
-  // A cloth vertex beside an obstacle box's top edge (closest point on the edge, gap at 45°
-  // from the top face) is a contact: the across-surface test applies to cloth pairs only.
-  const CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
-  CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(0.002, 0.0, 0.002), 1e-4);
-  const std::vector<Proximity> found = proximities({&cloth, &box}, 5e-3);
+  // A cloth vertex 3 mm beside the edge of an obstacle triangle, nearly in its plane (gap at 80°
+  // from the face normal, which a cloth–cloth pair would not count): it is a contact, the
+  // across-surface test applies to cloth pairs only.
+  CollisionMesh obstacle;
+  obstacle.obstacle = true;
+  obstacle.x0.resize(3, 3);
+  obstacle.x0 << -0.05, -0.05, 0.0, 0.0, -0.05, 0.0, 0.0, 0.05, 0.0;
+  obstacle.x1 = obstacle.x0;
+  obstacle.faces.resize(1, 3);
+  obstacle.faces << 0, 1, 2;
+  CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(0.003, 0.0, 0.0005), 1e-4);
+  const std::vector<Proximity> found = proximities({&cloth, &obstacle}, 5e-3);
   bool vertex0 = false;
   for (const Proximity& p : found) vertex0 = vertex0 || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0);
   EXPECT_TRUE(vertex0);
