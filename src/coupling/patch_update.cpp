@@ -19,39 +19,91 @@ void vertex_normals(const Triangles& faces, const Points& x, Points& normals) {
   }
 }
 
+namespace {
+
+/// How far inside the cloth's repulsion layers the fingers of a pinch rest, in thicknesses.
+constexpr double kPinchMargin = 0.01;
+
+/// The rigid surface points (at the rigid bodies' current poses) and normals touching the cloth
+/// vertices of one cluster, from their contact groups' heaviest records, into data.patch_touches.
+void surface_touches(const std::vector<int>& cluster, int cloth_meshes, WorldData& data) {
+  data.patch_touches.clear();
+  const std::vector<ContactGroup>& groups = data.interface.groups;
+  for (int k : cluster) {
+    const auto [first, end] = data.patch_vertex_groups[static_cast<std::size_t>(k)];
+    for (int g = first; g < end; ++g) {
+      const ContactGroup& group = groups[static_cast<std::size_t>(g)];
+      if (group.other_mesh < cloth_meshes || group.other_vertices[0] < 0) continue;
+      const Points& x = data.meshes[static_cast<std::size_t>(group.other_mesh)].x0;
+      Vec3 point = Vec3::Zero();
+      for (int j = 0; j < 3; ++j)
+        if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
+          point += group.other_weights[j] *
+                   x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
+      data.patch_touches.push_back({point, group.normal});
+    }
+  }
+}
+
+}  // namespace
+
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
   rigid::PatchPool& pool = data.rigid.world->patches();
   pool.deactivate_all();
   data.patches.clear();
   const double h = model.dt;
   const std::vector<ContactGroup>& groups = data.interface.groups;
+  // Between two bodies (a pinch) DART lets each rest its contact allowance deep in the patch;
+  // the patch is thicker by that, less a small margin, so the fingers rest just inside the
+  // cloth's two repulsion layers: the vertex stays in contact with both, and the layers barely
+  // overlap. Fingers 2 × allowance closer (a patch of 2 × thickness) squeezed the cloth between
+  // two repulsions that cannot both be met; it jittered across the gap and crept out of a grip
+  // at 1.1 N* (2.5 mm over 1 s); at the layers' edge exactly, its contacts flickered.
+  const double allowance = data.rigid.world ? data.rigid.world->contact_allowance() : 0.0;
+  const double pinched_thickness =
+      2.0 * model.thickness + 2.0 * (allowance - kPinchMargin * model.thickness);
   int placed = 0;
   for (int c = 0; c < cloth_meshes; ++c) {
     const collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(c)];
-    // Vertices of this cloth touching an actuated rigid body, once each.
+    // Vertices of this cloth touching an actuated rigid body, once each, with the run of their
+    // contact groups (the groups of one vertex are consecutive).
     data.patch_vertex_ids.clear();
-    for (const ContactGroup& g : groups) {
-      const int m = g.other_mesh - cloth_meshes;
-      if (g.cloth == c && m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)] &&
-          (data.patch_vertex_ids.empty() || data.patch_vertex_ids.back() != g.vertex))
-        data.patch_vertex_ids.push_back(g.vertex);
+    data.patch_vertex_groups.clear();
+    for (std::size_t first = 0; first < groups.size();) {
+      std::size_t end = first;
+      bool actuated = false;
+      while (end < groups.size() && groups[end].cloth == groups[first].cloth &&
+             groups[end].vertex == groups[first].vertex) {
+        const int m = groups[end].other_mesh - cloth_meshes;
+        actuated = actuated || (m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)]);
+        ++end;
+      }
+      if (groups[first].cloth == c && actuated) {
+        data.patch_vertex_ids.push_back(groups[first].vertex);
+        data.patch_vertex_groups.emplace_back(static_cast<int>(first), static_cast<int>(end));
+      }
+      first = end;
     }
     if (data.patch_vertex_ids.empty()) continue;
     vertex_normals(mesh.faces, mesh.x1, data.normals);
     data.patch_vertices.clear();
-    for (int i : data.patch_vertex_ids)
+    for (std::size_t k = 0; k < data.patch_vertex_ids.size(); ++k) {
+      const int i = data.patch_vertex_ids[k];
       data.patch_vertices.push_back({mesh.x1.row(i).transpose(),
                                      (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h,
                                      data.normals.row(i).transpose(), mesh.mass[i]});
+    }
     // Cluster (eqs. 9–11) and fit one thin box per cluster.
     const auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
     // The cloth keeps obstacles one repulsion thickness away on each side, so a patch as thick
     // as 2 × thickness makes a pinch close to where the repulsion of both jaws is just met;
     // thinner patches let the jaws in closer than the two repulsion layers, whose opposite
     // targets cannot both be met and the cloth is squeezed out sideways.
-    const double thickness = 2.0 * model.thickness;
     for (const auto& cluster : clusters) {
-      RigidPatch patch = build_patch(data.patch_vertices, cluster, thickness, 2.0 * model.thickness);
+      RigidPatch patch = build_patch(data.patch_vertices, cluster, 2.0 * model.thickness,
+                                     2.0 * model.thickness);
+      surface_touches(cluster, cloth_meshes, data);
+      centre_between_surfaces(patch, data.patch_touches, pinched_thickness);
       for (int& k : patch.vertices) k = data.patch_vertex_ids[static_cast<std::size_t>(k)];
       patch.cloth = c;
       data.patches.push_back(std::move(patch));

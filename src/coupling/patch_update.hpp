@@ -7,9 +7,11 @@ namespace dexcloth::coupling {
 /// Rebuilds data.patches from the cloth vertices touching actuated rigid bodies (the hand, the
 /// gripper: a static prop needs no patch to know about the cloth) and places them in DART's patch
 /// pool for the coming rigid step; every other pool patch is deactivated. Uses x1 of the cloth
-/// meshes (the end-of-step positions) and (x1 − x0)/h as velocities. Patch thickness is
-/// 1.6 × the repulsion thickness, so a finger resting on a patch is 0.8 × thickness from the cloth,
-/// inside the proximity range that keeps the vertex in Vr. Returns the number of active patches.
+/// meshes (the end-of-step positions) and (x1 − x0)/h as velocities. A patch is 2 × the
+/// repulsion thickness thick (the cloth with its two repulsion layers); one whose cloth touches
+/// bodies on both sides (a pinch) is centred between them and made thicker by DART's contact
+/// allowance on each side, less 1 % of the thickness, so the bodies rest just inside the
+/// repulsion layers. Returns the number of active patches.
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data);
 
 /// Area-weighted unit vertex normals of a triangle mesh (|V|×3 into `normals`).

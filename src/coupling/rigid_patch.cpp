@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <unordered_map>
 
@@ -197,6 +198,36 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
   patch.angular_velocity = omega;
   patch.linear_velocity = v_com + omega.cross(patch.center - com);
   return patch;
+}
+
+/// The median of a non-empty list (reordered).
+double median(std::vector<double>& values) {
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+/// Surfaces within this angle of the patch normal carry its faces [deg].
+constexpr double kFacingDeg = 20.0;
+
+void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
+                             double thickness) {
+  const double min_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
+  const Vec3 n = patch.R.col(2);
+  // Offsets along n of the facing surfaces on each side; the median on each side is the finger
+  // pad's face when the cloth also brushes the finger's rounded flank around the pad.
+  std::vector<double> above, below;
+  for (const SurfaceTouch& t : touches) {
+    const double facing = t.normal.dot(n);
+    const double s = (t.point - patch.center).dot(n);
+    if (facing <= -min_cosine && s > 0.0) above.push_back(s);
+    if (facing >= min_cosine && s < 0.0) below.push_back(s);
+  }
+  if (above.empty() || below.empty()) return;
+  const Vec3 shift = 0.5 * (median(above) + median(below)) * n;
+  patch.center += shift;
+  patch.linear_velocity += patch.angular_velocity.cross(shift);
+  patch.size.z() = thickness;
 }
 
 }  // namespace dexcloth::coupling

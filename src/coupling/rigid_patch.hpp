@@ -48,6 +48,23 @@ std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vert
 RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const int> cluster,
                        double thickness, double min_size);
 
+/// A point of a rigid surface that a patch's cloth touches, and the surface's unit normal there
+/// (pointing out of the body, toward the cloth).
+struct SurfaceTouch {
+  Vec3 point{Vec3::Zero()};
+  Vec3 normal{Vec3::UnitZ()};
+};
+
+/// Centres the patch between the rigid surfaces its cloth touches on both sides (two fingers
+/// of a pinch) and makes it `thickness` thick, so each finger sinks into it by the same depth and
+/// the rigid simulator pushes both back alike. Centred on the cloth instead, a patch missed one
+/// finger as soon as the cloth sat a fraction of a millimetre off centre, and that finger closed
+/// through it. On each side the offset is the median over the touches of surfaces facing within
+/// 20° of the patch normal (a finger's flank beside the patch is ignored). A patch touched on
+/// one side only, or none, is left as it is.
+void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
+                             double thickness);
+
 /// Minimum-area enclosing rectangle of 2-D points: its centre, unit axis u (v = u rotated by 90°)
 /// and full extents. Exposed for tests.
 struct Rectangle2 {

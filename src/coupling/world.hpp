@@ -106,6 +106,8 @@ struct WorldData {
   std::vector<RigidPatch> patches;
   std::vector<PatchVertex> patch_vertices;
   std::vector<int> patch_vertex_ids;   ///< cloth vertex of each patch vertex (one cloth at a time)
+  std::vector<std::pair<int, int>> patch_vertex_groups;  ///< its contact groups [first, end)
+  std::vector<SurfaceTouch> patch_touches;  ///< rigid surfaces touching one cluster's cloth
   Points normals;                       ///< vertex normals scratch
 };
 

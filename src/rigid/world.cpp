@@ -450,6 +450,8 @@ std::optional<SkeletonId> RigidWorld::find_skeleton(std::string_view name) const
   return std::nullopt;
 }
 
+double RigidWorld::contact_allowance() const { return kContactErrorAllowance; }
+
 SkeletonId RigidWorld::skeleton(std::string_view name) const {
   if (auto s = find_skeleton(name)) return *s;
   reject("", "no skeleton named '" + std::string(name) + "'");

@@ -88,6 +88,8 @@ class RigidWorld {
   void step();
   double time() const;        ///< simulated time [s]
   double time_step() const;   ///< h [s]
+  /// Depth a body may rest inside another before the contact pushes it out [m].
+  double contact_allowance() const;
   long step_count() const;
 
   // ---- lookup (throw InputRejected naming the skeleton's file when not found) ----------------

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <functional>
+#include <string>
 
 #include "cli_runner.hpp"
 
@@ -22,7 +24,9 @@ constexpr double kThreshold = 0.15 * 0.05 * 0.30 * 9.81 / (2.0 * 0.5);  // N* [N
 /// Runs the pinch with squeeze force `n` [N] per jaw; `extra` adds CLI arguments.
 nlohmann::json pinch(double n, const std::string& coupling, const std::string& extra = "") {
   const std::string force = std::to_string(n);
-  const fs::path out = fresh_dir(coupling + force);
+  // One output folder per force and extra arguments: tests running at once never share one.
+  const fs::path out =
+      fresh_dir(coupling + force + "_" + std::to_string(std::hash<std::string>{}(extra)));
   const auto r = run_cli(
       "run " + (source_dir() / "scenes" / "gripper_pinch.json").string() + " --quiet --out " +
       out.string() + " --coupling " + coupling +
@@ -55,6 +59,18 @@ TEST(Pinch, HeldAboveTheCoulombThresholdWithoutIntersections) {
     EXPECT_LT(slip(s, 1.0, 2.0), 1e-3) << factor << " N*";
     EXPECT_EQ(s["intersections_max"], 0) << factor << " N*";
     EXPECT_EQ(s["nan"], false);
+  }
+}
+
+TEST(Pinch, HeldAtTheThresholdWhereverTheStripHangsBetweenTheJaws) {
+  // The hold at 1.1 N* must not hinge on the strip hanging exactly midway between the jaws: a
+  // strip 0.2 mm off centre slipped 1.5 mm (toward a jaw) and 9 mm (sideways) when the jaws
+  // could close on the cloth past its two repulsion layers.
+  for (const char* at : {"[0,0.0002,0.39]", "[0.0002,0,0.39]"}) {
+    const auto s = pinch(1.1 * kThreshold, "bai-liu",
+                         std::string("--duration 2.0 --set /cloths/0/transform/translation=") + at);
+    EXPECT_LT(slip(s, 1.0, 2.0), 1e-3) << at;
+    EXPECT_EQ(s["intersections_max"], 0) << at;
   }
 }
 

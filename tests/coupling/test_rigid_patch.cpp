@@ -96,3 +96,59 @@ TEST(RigidPatch, SingleVertexPatchHasMinimumSizeAndItsVelocity) {
   EXPECT_EQ(p.angular_velocity, Vec3::Zero());
   EXPECT_EQ(p.center, Vec3(0, 0, 1));
 }
+
+namespace {
+
+/// The patch of the 5×4 lattice at the origin, 10 mm thick (centre (0.01, 0.0075, 0), normal +z).
+RigidPatch lattice_patch() {
+  const std::vector<PatchVertex> v = lattice(Vec3::Zero());
+  std::vector<int> all(v.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  return build_patch(v, all, 0.010, 0.010);
+}
+
+/// Offsets of the patch's faces along its normal from the cloth plane z = 0 [m].
+std::pair<double, double> faces(const RigidPatch& p) {
+  const double c = p.center.z() * p.R(2, 2);
+  return {c - 0.5 * p.size.z(), c + 0.5 * p.size.z()};
+}
+
+}  // namespace
+
+TEST(RigidPatch, APatchBetweenTwoFingersIsCentredBetweenThemWhereverTheClothLies) {
+  // Fingers 3 mm above and 4.5 mm below the cloth; most touches see the pad faces, a few the
+  // fingers' rounded flanks a bit farther away.
+  RigidPatch p = lattice_patch();
+  ASSERT_NEAR(p.R.col(2).z(), 1.0, 1e-12);
+  const Vec3 v0 = p.linear_velocity;
+  std::vector<SurfaceTouch> touches;
+  for (int k = 0; k < 5; ++k) touches.push_back({Vec3(0.002 * k, 0, 0.003), -Vec3::UnitZ()});
+  touches.push_back({Vec3(0.02, 0, 0.0036), -Vec3(0.2, 0, 1).normalized()});
+  for (int k = 0; k < 5; ++k) touches.push_back({Vec3(0.002 * k, 0.01, -0.0045), Vec3::UnitZ()});
+  touches.push_back({Vec3(0.02, 0.01, -0.0051), Vec3(0.2, 0, 1).normalized()});
+  centre_between_surfaces(p, touches, 0.0104);
+  const auto [bottom, top] = faces(p);
+  EXPECT_NEAR(0.5 * (top + bottom), -0.00075, 1e-12);  // midway between the pad faces
+  EXPECT_NEAR(top - bottom, 0.0104, 1e-12);            // the thickness asked for
+  EXPECT_NEAR(p.center.x(), 0.01, 1e-12);              // rectangle unchanged
+  EXPECT_NEAR(p.size.x() * p.size.y(), 0.020 * 0.015, 1e-12);
+  EXPECT_NEAR((p.linear_velocity - v0).norm(), 0.0, 1e-12);  // not rotating: same velocity
+}
+
+TEST(RigidPatch, APatchTouchedOnOneSideOrByFlanksOnlyStaysOnTheCloth) {
+  // One finger 4 mm above; below, only a surface facing 60° away from the normal (a flank).
+  RigidPatch p = lattice_patch();
+  const Vec3 c0 = p.center;
+  const std::vector<SurfaceTouch> touches{
+      {Vec3(0.01, 0.0075, 0.004), -Vec3::UnitZ()},
+      {Vec3(0.0, 0.0, -0.002), Vec3(std::sqrt(3.0), 0, 1).normalized()}};
+  centre_between_surfaces(p, touches, 0.0104);
+  EXPECT_NEAR((p.center - c0).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(p.size.z(), 0.010, 1e-15);
+  // The same flank within 20° of the normal counts: centred 1 mm up, between z = −2 and 4 mm.
+  const std::vector<SurfaceTouch> both{touches[0],
+                                       {Vec3(0.0, 0.0, -0.002), Vec3(0.3, 0, 1).normalized()}};
+  centre_between_surfaces(p, both, 0.0104);
+  EXPECT_NEAR(p.center.z() - c0.z(), 0.001, 1e-12);
+  EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
+}
