@@ -19,6 +19,13 @@ void vertex_normals(const Triangles& faces, const Points& x, Points& normals) {
   }
 }
 
+Vec3 clustering_normal(const Vec3& n, std::span<const ContactGroup> groups, int cloth_meshes) {
+  Vec3 sum = Vec3::Zero();
+  for (const ContactGroup& g : groups)
+    if (g.other_mesh >= cloth_meshes) sum += g.normal.dot(n) >= 0.0 ? g.normal : Vec3(-g.normal);
+  return sum.norm() > 0.0 ? Vec3(sum.normalized()) : n;
+}
+
 namespace {
 
 /// How far inside the cloth's repulsion layers the fingers of a pinch rest, in thicknesses.
@@ -89,11 +96,14 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     data.patch_vertices.clear();
     for (std::size_t k = 0; k < data.patch_vertex_ids.size(); ++k) {
       const int i = data.patch_vertex_ids[k];
+      const auto [first, end] = data.patch_vertex_groups[k];
+      const std::span<const ContactGroup> touching(groups.data() + first, groups.data() + end);
+      const Vec3 n = clustering_normal(data.normals.row(i).transpose(), touching, cloth_meshes);
       data.patch_vertices.push_back({mesh.x1.row(i).transpose(),
-                                     (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h,
-                                     data.normals.row(i).transpose(), mesh.mass[i]});
+                                     (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h, n,
+                                     mesh.mass[i]});
     }
-    // Cluster (eqs. 9–11) and fit one thin box per cluster.
+    // Cluster (eqs. 9–11, on the touched surfaces' normals) and fit one thin box per cluster.
     const auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
     // The cloth keeps obstacles one repulsion thickness away on each side, so a patch as thick
     // as 2 × thickness makes a pinch close to where the repulsion of both jaws is just met;

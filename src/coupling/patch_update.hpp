@@ -1,5 +1,7 @@
 #pragma once
 /// Paper §5 in the time step: rigid cloth patches rebuilt from the cloth under the hand.
+#include <span>
+
 #include "coupling/world.hpp"
 
 namespace dexcloth::coupling {
@@ -13,6 +15,14 @@ namespace dexcloth::coupling {
 /// allowance on each side, less 1 % of the thickness, so the bodies rest just inside the
 /// repulsion layers. Returns the number of active patches.
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data);
+
+/// The normal a cloth vertex is clustered by (δn, δd of eqs. 10–11): the mean of the normals of
+/// the rigid surfaces it touches (its contact groups with meshes ≥ `cloth_meshes`), each turned
+/// to the side of its cloth normal `n`; `n` itself when it touches no rigid surface. Cloth
+/// pressed by a finger lies along the finger whatever its mesh normals say: where the cloth
+/// under a finger pad wrinkled at the scale of the pad, its vertex normals spread past δn and a
+/// hand's pinch fell apart into 20–30 small patches, few of them reaching both fingers.
+Vec3 clustering_normal(const Vec3& n, std::span<const ContactGroup> groups, int cloth_meshes);
 
 /// Area-weighted unit vertex normals of a triangle mesh (|V|×3 into `normals`).
 void vertex_normals(const Triangles& faces, const Points& x, Points& normals);
