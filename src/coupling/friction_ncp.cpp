@@ -27,10 +27,14 @@ Mat3 tangent_projector(const Vec3& n) {
 /// The common plane of the contacts, when every normal is within asin(max_sin) of ±n_0 (sandwich
 /// or same side): the sign-aligned mean normal. False otherwise (or with no contacts).
 bool common_normal(std::span<const FrictionContact> contacts, double max_sin, Vec3& n) {
-  if (contacts.empty()) return false;
-  const Vec3 n0 = contacts[0].normal.normalized();
+  // A contact without friction capacity exerts no force whatever its plane: it does not count.
+  const auto carries = [](const FrictionContact& c) { return c.mu * c.normal_force > 0.0; };
+  const auto first = std::find_if(contacts.begin(), contacts.end(), carries);
+  if (first == contacts.end()) return false;
+  const Vec3 n0 = first->normal.normalized();
   n = Vec3::Zero();
   for (const FrictionContact& c : contacts) {
+    if (!carries(c)) continue;
     const Vec3 ni = c.normal.normalized();
     if (ni.cross(n0).norm() > max_sin) return false;
     n += ni.dot(n0) >= 0.0 ? ni : Vec3(-ni);

@@ -65,6 +65,21 @@ TEST(FrictionNcp, PinchBothStaticWhenFingersMoveTogether) {
   EXPECT_NEAR((r.force[0] + r.force[1] + kA * v).norm(), 0.0, 1e-15);
 }
 
+TEST(FrictionNcp, AContactWithoutCapacityDoesNotBreakASandwich) {
+  // The pinch above plus a touch of another surface at right angles that carries no normal force
+  // (its repulsion ended): still the exact sandwich, not the general solver.
+  const Vec3 v(0.01, 0.02, 0.0);
+  const std::vector c{contact(Vec3::UnitZ(), 0.02, 0.5, v + Vec3(0, 0, 0.1)),
+                      contact(-Vec3::UnitZ(), 0.01, 0.5, v - Vec3(0, 0, 0.1)),
+                      contact(Vec3::UnitX(), 0.0, 0.5, v + Vec3(0.3, 0, 0))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  expect_valid(c, r);
+  EXPECT_EQ(r.which, FrictionCase::static_at);
+  EXPECT_TRUE(r.sticking[0] && r.sticking[1]);
+  EXPECT_NEAR((r.delta_v + v).norm(), 0.0, 1e-15);
+  EXPECT_EQ(r.force[2].norm(), 0.0);
+}
+
 TEST(FrictionNcp, StaticDynamicHandComputed) {
   // c = 0.005 N each, a = 0.2. Static at 1: Δv = −0.01, contact 2 slides at +0.02 → fT2 = −0.005,
   // remainder fT1 = a Δv − fT2 = −0.002 + 0.005 = 0.003 ≤ 0.005: valid (SD).
