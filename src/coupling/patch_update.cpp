@@ -41,7 +41,7 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, WorldDat
     for (int g = first; g < end; ++g) {
       const ContactGroup& group = groups[static_cast<std::size_t>(g)];
       if (group.other_mesh < cloth_meshes || group.other_vertices[0] < 0) continue;
-      const Points& x = data.meshes[static_cast<std::size_t>(group.other_mesh)].x0;
+      const Points& x = data.rigid.meshes[static_cast<std::size_t>(group.other_mesh - cloth_meshes)].x;
       Vec3 point = Vec3::Zero();
       for (int j = 0; j < 3; ++j)
         if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
