@@ -275,7 +275,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       // Friction already solved in the implicit step: a stuck vertex is position-constrained
       // unless it is still closing on a surface.
       if (implicit == 1 && !closing(groups, g, end, v)) {
-        mesh.frozen[static_cast<std::size_t>(i)] = 1;
+        mesh.frozen[static_cast<std::size_t>(i)] = collision::kHeldByFriction;
         ++frozen;
       }
     } else {
@@ -296,7 +296,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       // it (a frozen vertex driven into an obstacle cannot be resolved).
       if (r.which == FrictionCase::static_at &&
           !closing(groups, g, g + static_cast<std::size_t>(count), v + r.delta_v)) {
-        mesh.frozen[static_cast<std::size_t>(i)] = 1;
+        mesh.frozen[static_cast<std::size_t>(i)] = collision::kHeldByFriction;
         ++frozen;
       }
       if (!r.ok)

@@ -10,14 +10,19 @@ namespace dexcloth::collision {
 
 /// One triangle mesh taking part in collision handling for a step.
 /// Velocities are implied: v = (x1 − x0)/h. Obstacles carry their prescribed motion x0 → x1.
+/// CollisionMesh::frozen value of a vertex held in place by static friction (not a handle).
+inline constexpr std::uint8_t kHeldByFriction = 2;
+
 struct CollisionMesh {
   Points x0;                         ///< |V|×3 positions at the start of the step [m]
   Points x1;                         ///< |V|×3 candidate positions at the end of the step [m]
                                      ///< (modified by responses)
   Triangles faces;                   ///< |F|×3 vertex indices
   Eigen::VectorXd mass;              ///< |V| vertex masses [kg] (ignored for obstacles)
-  std::vector<std::uint8_t> frozen;  ///< |V| 1 = position constrained: responses never move it
-                                     ///< (handles, the coupling's static-friction vertices);
+  std::vector<std::uint8_t> frozen;  ///< |V| nonzero = position constrained: responses never
+                                     ///< move it (1: handles), except that the impact zones let
+                                     ///< go of a vertex held by static friction
+                                     ///< (kHeldByFriction) when an obstacle runs into it;
                                      ///< empty = none frozen
   bool obstacle{false};              ///< infinitely heavy, never moved, no self-collision
   double friction{0.5};              ///< Coulomb μ of this mesh's surface [-]

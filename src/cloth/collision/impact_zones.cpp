@@ -43,6 +43,19 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
       c0[k] = x0_of(m, vertex[k]);
       c1[k] = x1_of(m, vertex[k]);
     }
+    // Only fixed corners, some of them held by static friction only: an obstacle runs into a
+    // stuck cloth vertex. Not passing through comes first: those vertices are let go.
+    if (!movable && (edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance).has_value()
+                               : vertex_face_ccd(c0, c1, options.ccd_tolerance).has_value()))
+      for (std::size_t k = 0; k < 4; ++k) {
+        CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
+        const auto v = static_cast<std::size_t>(vertex[k]);
+        if (m.obstacle || m.frozen.empty() || m.frozen[v] != kHeldByFriction) continue;
+        m.frozen[v] = 0;
+        ++m_released;
+        impact.corner[k].inv_mass = inverse_mass(m, vertex[k]);
+        movable = true;
+      }
     if (!movable) {
       // Only fixed corners: nothing can respond, so say so (once, on the first round).
       if (m_count_fixed) {
@@ -189,6 +202,7 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
   for (int g = 0; g < total; ++g) m_parent[static_cast<std::size_t>(g)] = g;
   m_level.assign(static_cast<std::size_t>(total), 0);
   m_impacts.clear();
+  m_released = 0;
   bool fixed_collisions = false;
 
   for (int iter = 0;; ++iter) {
@@ -290,6 +304,7 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
     report.impacts = static_cast<int>(m_impacts.size());
   }
   report.impacts = static_cast<int>(m_impacts.size());
+  report.released = m_released;
   return report;
 }
 

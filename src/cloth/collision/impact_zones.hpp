@@ -35,6 +35,7 @@ struct ImpactZoneReport {
   int impacts{};       ///< impacts found over all rounds (constraints)
   int zones{};         ///< distinct impact zones at the end
   int rigid_zones{};   ///< zones that fell back to rigid motion or to staying at x0
+  int released{};      ///< vertices held by friction let go because an obstacle ran into them
   bool converged{};    ///< the last detection found no impact, and no fixed–fixed collision
                        ///< (frozen vertex against obstacle) exists
   std::vector<std::string> warnings;  ///< fallbacks taken and anything left unresolved
@@ -90,6 +91,7 @@ class ImpactZoneSolver {
   std::vector<int> m_zone_members;
   bool m_count_fixed{};   // test pairs whose corners are all fixed (first round only)
   int m_fixed_impacts{};  // such pairs found colliding
+  int m_released{};       // friction-held vertices let go this resolve
 };
 
 }  // namespace dexcloth::collision

@@ -99,3 +99,21 @@ TEST(ImpactZones, ImpossibleConstraintIsReportedNotHidden) {
   EXPECT_FALSE(report.warnings.empty());
   EXPECT_GT(report.rigid_zones, 0);
 }
+
+TEST(ImpactZones, AVertexHeldByFrictionIsLetGoWhenAnObstacleRunsIntoIt) {
+  // The same vertex held by static friction rather than by a handle: non-penetration comes
+  // first, so it is released and the sheet ends free of the box.
+  DropScene s;
+  const int n = 25;
+  const int centre = 12 * n + 12;
+  s.sheet.frozen[static_cast<std::size_t>(centre)] = kHeldByFriction;
+  ImpactZoneSolver solver;
+  ImpactZoneOptions options;
+  options.max_iterations = 12;
+  const ImpactZoneReport report = solver.resolve(s.meshes(), options);
+  EXPECT_TRUE(report.converged);
+  EXPECT_EQ(report.released, 1);
+  EXPECT_EQ(s.sheet.frozen[static_cast<std::size_t>(centre)], 0);
+  EXPECT_EQ(s.intersections(), 0);
+  EXPECT_GT(s.sheet.x1(centre, 2), kTop);  // stopped on the box top, not pushed through
+}
