@@ -63,16 +63,6 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
 
 namespace {
 
-/// End of the run of groups of the vertex whose first group is `first` (the groups of one vertex
-/// are consecutive).
-std::size_t vertex_end(const std::vector<ContactGroup>& groups, std::size_t first) {
-  std::size_t end = first;
-  while (end < groups.size() && groups[end].cloth == groups[first].cloth &&
-         groups[end].vertex == groups[first].vertex)
-    ++end;
-  return end;
-}
-
 /// Whether the group took a DART contact force (§4.1) rather than the repulsion force.
 bool takes_dart_force(const ContactGroup& g) { return g.rigid_patch >= 0 || g.rigid_contact >= 0; }
 

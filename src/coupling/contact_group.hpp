@@ -1,6 +1,7 @@
 #pragma once
 /// Per-vertex contact groups handed from contact detection to the paper's interface.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,16 @@ struct ContactGroup {
   Vec3 other_weights{Vec3::Zero()};
   double record_weight{};            ///< weight of that record
 };
+
+/// End of the run of groups of the vertex whose first group is `first` (group_contacts keeps
+/// the groups of one vertex consecutive).
+inline std::size_t vertex_end(const std::vector<ContactGroup>& groups, std::size_t first) {
+  std::size_t end = first;
+  while (end < groups.size() && groups[end].cloth == groups[first].cloth &&
+         groups[end].vertex == groups[first].vertex)
+    ++end;
+  return end;
+}
 
 /// Scratch of the interface, kept between steps so a step does not allocate.
 struct InterfaceScratch {

@@ -76,20 +76,18 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     // contact groups (the groups of one vertex are consecutive).
     data.patch_vertex_ids.clear();
     data.patch_vertex_groups.clear();
-    for (std::size_t first = 0; first < groups.size();) {
-      std::size_t end = first;
-      bool actuated = false;
-      while (end < groups.size() && groups[end].cloth == groups[first].cloth &&
-             groups[end].vertex == groups[first].vertex) {
-        const int m = groups[end].other_mesh - cloth_meshes;
-        actuated = actuated || (m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)]);
-        ++end;
-      }
-      if (groups[first].cloth == c && actuated) {
-        data.patch_vertex_ids.push_back(groups[first].vertex);
-        data.patch_vertex_groups.emplace_back(static_cast<int>(first), static_cast<int>(end));
-      }
-      first = end;
+    const auto actuated = [&](const ContactGroup& g) {
+      const int m = g.other_mesh - cloth_meshes;
+      return m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)];
+    };
+    for (std::size_t first = 0, end = 0; first < groups.size(); first = end) {
+      end = vertex_end(groups, first);
+      const auto run = groups.begin() + static_cast<std::ptrdiff_t>(first);
+      if (groups[first].cloth != c ||
+          std::none_of(run, groups.begin() + static_cast<std::ptrdiff_t>(end), actuated))
+        continue;
+      data.patch_vertex_ids.push_back(groups[first].vertex);
+      data.patch_vertex_groups.emplace_back(static_cast<int>(first), static_cast<int>(end));
     }
     if (data.patch_vertex_ids.empty()) continue;
     vertex_normals(mesh.faces, mesh.x1, data.normals);

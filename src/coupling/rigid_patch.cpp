@@ -200,6 +200,8 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
   return patch;
 }
 
+namespace {
+
 /// The median of a non-empty list (reordered).
 double median(std::vector<double>& values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -209,6 +211,8 @@ double median(std::vector<double>& values) {
 
 /// Surfaces within this angle of the patch normal carry its faces [deg].
 constexpr double kFacingDeg = 20.0;
+
+}  // namespace
 
 void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness) {

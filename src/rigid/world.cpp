@@ -436,6 +436,7 @@ void RigidWorld::step() {
 
 double RigidWorld::time() const { return m_impl->world->getTime(); }
 double RigidWorld::time_step() const { return m_impl->options.time_step; }
+double RigidWorld::contact_allowance() const { return kContactErrorAllowance; }
 long RigidWorld::step_count() const { return m_impl->steps; }
 
 // ---- lookup ------------------------------------------------------------------------------------
@@ -449,8 +450,6 @@ std::optional<SkeletonId> RigidWorld::find_skeleton(std::string_view name) const
   }
   return std::nullopt;
 }
-
-double RigidWorld::contact_allowance() const { return kContactErrorAllowance; }
 
 SkeletonId RigidWorld::skeleton(std::string_view name) const {
   if (auto s = find_skeleton(name)) return *s;

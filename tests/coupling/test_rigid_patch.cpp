@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -103,7 +104,7 @@ namespace {
 RigidPatch lattice_patch() {
   const std::vector<PatchVertex> v = lattice(Vec3::Zero());
   std::vector<int> all(v.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  std::iota(all.begin(), all.end(), 0);
   return build_patch(v, all, 0.010, 0.010);
 }
 

@@ -8,11 +8,11 @@
 
 namespace dexcloth::collision {
 
-/// One triangle mesh taking part in collision handling for a step.
-/// Velocities are implied: v = (x1 − x0)/h. Obstacles carry their prescribed motion x0 → x1.
 /// CollisionMesh::frozen value of a vertex held in place by static friction (not a handle).
 inline constexpr std::uint8_t kHeldByFriction = 2;
 
+/// One triangle mesh taking part in collision handling for a step.
+/// Velocities are implied: v = (x1 − x0)/h. Obstacles carry their prescribed motion x0 → x1.
 struct CollisionMesh {
   Points x0;                         ///< |V|×3 positions at the start of the step [m]
   Points x1;                         ///< |V|×3 candidate positions at the end of the step [m]
@@ -35,6 +35,12 @@ void demand_valid(const CollisionMesh& mesh);
 /// True when responses must not move vertex `v`: obstacle meshes and frozen vertices.
 inline bool is_fixed(const CollisionMesh& mesh, int v) {
   return mesh.obstacle || (!mesh.frozen.empty() && mesh.frozen[static_cast<std::size_t>(v)] != 0);
+}
+
+/// True when vertex `v` is held in place by static friction only (the impact zones may let it go).
+inline bool held_by_friction(const CollisionMesh& mesh, int v) {
+  return !mesh.obstacle && !mesh.frozen.empty() &&
+         mesh.frozen[static_cast<std::size_t>(v)] == kHeldByFriction;
 }
 
 /// Inverse mass of vertex `v` [1/kg]; 0 for fixed vertices (infinite mass).

@@ -43,31 +43,30 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
       c0[k] = x0_of(m, vertex[k]);
       c1[k] = x1_of(m, vertex[k]);
     }
-    // Only fixed corners, some of them held by static friction only: an obstacle runs into a
-    // stuck cloth vertex. Not passing through comes first: those vertices are let go.
-    if (!movable && (edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance).has_value()
-                               : vertex_face_ccd(c0, c1, options.ccd_tolerance).has_value()))
-      for (std::size_t k = 0; k < 4; ++k) {
-        CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
-        const auto v = static_cast<std::size_t>(vertex[k]);
-        if (m.obstacle || m.frozen.empty() || m.frozen[v] != kHeldByFriction) continue;
-        m.frozen[v] = 0;
-        ++m_released;
-        impact.corner[k].inv_mass = inverse_mass(m, vertex[k]);
-        movable = true;
-      }
-    if (!movable) {
-      // Only fixed corners: nothing can respond, so say so (once, on the first round).
-      if (m_count_fixed) {
-        const bool hit = edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance).has_value()
-                                   : vertex_face_ccd(c0, c1, options.ccd_tolerance).has_value();
-        m_fixed_impacts += hit ? 1 : 0;
-      }
-      return;
+    // Only fixed corners: if some are held by static friction only, an obstacle runs into a
+    // stuck cloth vertex, and not passing through comes first: those vertices are let go.
+    // Otherwise nothing can respond, so say so (once, on the first round).
+    bool releasable = false;
+    for (std::size_t k = 0; k < 4 && !movable; ++k) {
+      const CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
+      releasable = releasable || held_by_friction(m, vertex[k]);
     }
+    if (!movable && !releasable && !m_count_fixed) return;
     const std::optional<CcdHit> hit = edge_edge ? edge_edge_ccd(c0, c1, options.ccd_tolerance)
                                                 : vertex_face_ccd(c0, c1, options.ccd_tolerance);
     if (!hit) return;
+    if (!movable && !releasable) {
+      ++m_fixed_impacts;
+      return;
+    }
+    if (!movable)
+      for (std::size_t k = 0; k < 4; ++k) {
+        CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
+        if (!held_by_friction(m, vertex[k])) continue;
+        m.frozen[static_cast<std::size_t>(vertex[k])] = 0;
+        ++m_released;
+        impact.corner[k].inv_mass = inverse_mass(m, vertex[k]);
+      }
     impact.w = hit->w;
     impact.normal = hit->normal;
     impact.t = hit->t;
