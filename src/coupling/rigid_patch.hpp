@@ -59,9 +59,10 @@ struct SurfaceTouch {
 /// of a pinch) and makes it `thickness` thick, so each finger sinks into it by the same depth and
 /// the rigid simulator pushes both back alike. Centred on the cloth instead, a patch missed one
 /// finger as soon as the cloth sat a fraction of a millimetre off centre, and that finger closed
-/// through it. On each side the offset is the median over the touches of surfaces facing within
-/// 20° of the patch normal (a finger's flank beside the patch is ignored). A patch touched on
-/// one side only, or none, is left as it is.
+/// through it. The surfaces are those facing within 20° of the patch normal; the box is first
+/// turned about its centre to their plane (component-wise median of their normals, each turned
+/// to the patch's side) and then centred on the median offset of each side (a finger's flank
+/// beside the pad is outvoted). A patch touched on one side only, or none, is left as it is.
 void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 

@@ -146,10 +146,43 @@ TEST(RigidPatch, APatchTouchedOnOneSideOrByFlanksOnlyStaysOnTheCloth) {
   centre_between_surfaces(p, touches, 0.0104);
   EXPECT_NEAR((p.center - c0).norm(), 0.0, 1e-15);
   EXPECT_NEAR(p.size.z(), 0.010, 1e-15);
-  // The same flank within 20° of the normal counts: centred 1 mm up, between z = −2 and 4 mm.
-  const std::vector<SurfaceTouch> both{touches[0],
-                                       {Vec3(0.0, 0.0, -0.002), Vec3(0.3, 0, 1).normalized()}};
+  // The same flank within 20° of the normal counts: the box turns to the bisector of the two
+  // surfaces (16.7° apart) and sits midway between the two touch points along it.
+  const Vec3 flank = Vec3(0.3, 0, 1).normalized();
+  const std::vector<SurfaceTouch> both{touches[0], {Vec3(0.0, 0.0, -0.002), flank}};
   centre_between_surfaces(p, both, 0.0104);
-  EXPECT_NEAR(p.center.z() - c0.z(), 0.001, 1e-12);
+  const Vec3 n = p.R.col(2);
+  EXPECT_NEAR(n.dot(Vec3::UnitZ()), n.dot(flank), 1e-12);
+  EXPECT_NEAR(n.y(), 0.0, 1e-12);
+  EXPECT_NEAR((both[0].point - p.center).dot(n), -(both[1].point - p.center).dot(n), 1e-12);
   EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
+  EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
+}
+
+TEST(RigidPatch, APatchFittedToTiltedClothIsTurnedToTheFingersItIsSqueezedBetween) {
+  // Cloth crumpled in a pinch: the vertices fit a plane tilted 15° about y, while the pads are
+  // horizontal, 3 mm above and 4 mm below the centre. The box turns flat (a tilted box would
+  // sink its corners into the pads) and keeps its centre's velocity.
+  std::vector<PatchVertex> v = lattice(Vec3::Zero());
+  const Mat3 tilt = Eigen::AngleAxisd(15.0 * M_PI / 180.0, Vec3::UnitY()).toRotationMatrix();
+  for (PatchVertex& pv : v) {
+    pv.x = tilt * pv.x;
+    pv.n = tilt * pv.n;
+  }
+  std::vector<int> all(v.size());
+  std::iota(all.begin(), all.end(), 0);
+  RigidPatch p = build_patch(v, all, 0.010, 0.010);
+  ASSERT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), std::cos(15.0 * M_PI / 180.0), 1e-9);
+  const Vec3 c0 = p.center, v0 = p.linear_velocity;
+  std::vector<SurfaceTouch> touches;
+  for (int k = 0; k < 3; ++k) {
+    touches.push_back({c0 + Vec3(0.004 * k, 0, 0.003), -Vec3::UnitZ()});
+    touches.push_back({c0 + Vec3(0.004 * k, 0.002, -0.004), Vec3::UnitZ()});
+  }
+  centre_between_surfaces(p, touches, 0.0104);
+  EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR(p.center.z() - c0.z(), -0.0005, 1e-12);  // midway between z = +3 and −4 mm
+  EXPECT_NEAR(p.center.x() - c0.x(), 0.0, 1e-12);
+  EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
+  EXPECT_NEAR((p.linear_velocity - v0).norm(), 0.0, 1e-12);
 }
