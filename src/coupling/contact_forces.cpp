@@ -203,6 +203,32 @@ void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& d
   filter_normal_forces(cloth_meshes, h, data);
 }
 
+std::optional<cloth::FrictionConstraint> grip_constraint(
+    std::span<const ContactGroup> groups, int cloth_meshes, double coplanar_sin, double h,
+    const std::function<GripSurface(const ContactGroup&)>& surface) {
+  // The vertex's contacts with bodies make the constraint, whatever cloth it also touches (that
+  // friction is dropped for the step: the grip dominates it). A pinched corner folds onto
+  // itself within the repulsion thickness, and left to the per-vertex NCP after the solve it
+  // crept out of the fingers (10–28 mm in a hand's key pinch).
+  const auto body = [&](const ContactGroup& g) { return g.other_mesh >= cloth_meshes; };
+  const auto first = std::find_if(groups.begin(), groups.end(), body);
+  if (first == groups.end()) return std::nullopt;
+  const Vec3 n0 = first->normal;
+  double bound = 0.0, weight = 0.0;
+  Vec3 u = Vec3::Zero();
+  for (const ContactGroup& g : groups) {
+    if (!body(g)) continue;
+    if (g.other_vertices[0] < 0 || n0.cross(g.normal).norm() > coplanar_sin) return std::nullopt;
+    const GripSurface s = surface(g);
+    if (!s.actuated) return std::nullopt;
+    bound += s.mu * g.normal_force * h;
+    u += g.normal_force * s.velocity;
+    weight += g.normal_force;
+  }
+  if (!(bound > 0.0 && weight > 0.0)) return std::nullopt;
+  return cloth::FrictionConstraint{first->vertex, n0, u / weight, bound};
+}
+
 void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data) {
   const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
   InterfaceScratch& s = data.interface;
@@ -211,34 +237,26 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
   s.friction_outcome.resize(nc);
   for (auto& list : s.friction) list.clear();
   const std::vector<ContactGroup>& groups = s.groups;
+  // The touched surface's velocity now, at the group's heaviest record.
+  const auto surface = [&](const ContactGroup& cg) {
+    const auto m = static_cast<std::size_t>(cg.other_mesh - cloth_meshes);
+    GripSurface out;
+    out.actuated = data.rigid.mesh_actuated[m];
+    const rigid::ObstacleMesh& body = data.rigid.meshes[m];
+    for (std::size_t j = 0; j < 3; ++j)
+      if (cg.other_vertices[j] >= 0)
+        out.velocity += cg.other_weights[static_cast<Eigen::Index>(j)] *
+                        body.v.row(cg.other_vertices[j]).transpose();
+    out.mu = collision::pair_friction(data.meshes[static_cast<std::size_t>(cg.cloth)],
+                                      data.meshes[static_cast<std::size_t>(cg.other_mesh)]);
+    return out;
+  };
   std::size_t g = 0;
   while (g < groups.size()) {
     const std::size_t end = vertex_end(groups, g);
-    const Vec3 n0 = groups[g].normal;
-    const collision::CollisionMesh& cloth = data.meshes[static_cast<std::size_t>(groups[g].cloth)];
-    bool usable = true;
-    double bound = 0.0, weight = 0.0;
-    Vec3 u = Vec3::Zero();
-    for (std::size_t k = g; k < end && usable; ++k) {
-      const ContactGroup& cg = groups[k];
-      const int m = cg.other_mesh - cloth_meshes;
-      usable = m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)] &&
-               cg.other_vertices[0] >= 0 && n0.cross(cg.normal).norm() <= coplanar_sin;
-      if (!usable) break;
-      const rigid::ObstacleMesh& body = data.rigid.meshes[static_cast<std::size_t>(m)];
-      Vec3 v = Vec3::Zero();
-      for (std::size_t j = 0; j < 3; ++j)
-        if (cg.other_vertices[j] >= 0) v += cg.other_weights[static_cast<Eigen::Index>(j)] * body.v.row(cg.other_vertices[j]).transpose();
-      const double mu =
-          collision::pair_friction(cloth, data.meshes[static_cast<std::size_t>(cg.other_mesh)]);
-      bound += mu * cg.normal_force * h;
-      u += cg.normal_force * v;
-      weight += cg.normal_force;
-    }
-    if (usable && bound > 0.0 && weight > 0.0) {
-      const auto c = static_cast<std::size_t>(groups[g].cloth);
-      s.friction[c].push_back({groups[g].vertex, n0, u / weight, bound});
-    }
+    const std::span<const ContactGroup> run(groups.data() + g, end - g);
+    if (auto c = grip_constraint(run, cloth_meshes, coplanar_sin, h, surface))
+      s.friction[static_cast<std::size_t>(groups[g].cloth)].push_back(*c);
     g = end;
   }
 }

@@ -1,6 +1,9 @@
 #pragma once
 /// The interface of the paper between contact detection and the refinement steps: per-vertex
 /// contact groups, normal forces (§4.1), friction (§4.2) and position constraints (§3, §7.2).
+#include <functional>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include "coupling/contact_group.hpp"
@@ -23,13 +26,28 @@ void group_contacts(int cloth_meshes, double h, WorldData& data);
 /// low-passed (time constant 50 ms; step `h` [s]) while the vertex stays in contact.
 void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data);
 
-/// Friction of the vertices held by hands and grippers, for the next implicit step: from the
-/// last step's groups, a vertex whose contacts are all with actuated bodies (skeletons of
-/// `bodies`) and coplanar (within `coplanar_deg`) gets one constraint: its contact normal, the
-/// fN-weighted velocity of the touching surfaces now, and the bound Σ μ·fN·h. Fills
-/// data.interface.friction per cloth. The first step of a contact, and contacts with props
-/// (tables, obstacles) or cloth, go through apply_friction: the friction of a resting or
-/// sliding cloth needs no load transfer through the solve, and each friction vertex costs
+/// A body surface a cloth vertex touches, as the implicit friction sees it.
+struct GripSurface {
+  bool actuated{};                  ///< part of a skeleton of `bodies` (a hand or gripper)
+  Vec3 velocity{Vec3::Zero()};      ///< surface velocity at the contact now [m/s]
+  double mu{};                      ///< friction coefficient of the pair [-]
+};
+
+/// The implicit friction constraint of one vertex from its contact groups (all of one vertex,
+/// `cloth_meshes` cloth meshes first), or none. A vertex whose contacts with bodies are all with
+/// actuated ones, have a surface record, and are coplanar (|n_i × n_0| ≤ coplanar_sin) gets its
+/// first body contact's normal, the fN-weighted surface velocity, and the bound Σ μ·fN·h; its
+/// contacts with cloth give no friction in that step (the grip dominates). `surface` reads a
+/// body group's surface.
+std::optional<cloth::FrictionConstraint> grip_constraint(
+    std::span<const ContactGroup> groups, int cloth_meshes, double coplanar_sin, double h,
+    const std::function<GripSurface(const ContactGroup&)>& surface);
+
+/// Friction of the vertices held by hands and grippers, for the next implicit step: the
+/// grip_constraint of each vertex of the last step's groups, with coplanar_deg in degrees.
+/// Fills data.interface.friction per cloth. The first step of a contact, and vertices touching
+/// props (tables, obstacles) or only cloth, go through apply_friction: the friction of a resting
+/// or sliding cloth needs no load transfer through the solve, and each friction vertex costs
 /// Newton iterations of the whole cloth's system.
 void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data);
 
