@@ -13,6 +13,7 @@ WorldData make_data(const WorldModel& model, RigidSide rigid) {
     collision::CollisionMesh mesh;
     mesh.x0 = mesh.x1 = body.x_rest;
     mesh.faces = body.model.faces;
+    mesh.rest = body.x_rest;
     mesh.mass = body.model.mass;
     mesh.frozen.assign(static_cast<std::size_t>(body.x_rest.rows()), 0);
     mesh.friction = body.model.material.friction;

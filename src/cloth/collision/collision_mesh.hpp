@@ -24,12 +24,16 @@ struct CollisionMesh {
                                      ///< go of a vertex held by static friction
                                      ///< (kHeldByFriction) when an obstacle runs into it;
                                      ///< empty = none frozen
+  /// |V|×3 rest positions of a cloth [m], or empty (obstacles): two of its primitives closer
+  /// than a fold's length at rest are never in contact with each other (see find_proximities).
+  Points rest;
   bool obstacle{false};              ///< infinitely heavy, never moved, no self-collision
   double friction{0.5};              ///< Coulomb μ of this mesh's surface [-]
 };
 
 /// Checks the shapes of `mesh` (x0, x1, mass, frozen sizes, face indices in range, positive masses
-/// of cloth vertices); always on, since a wrong shape is a programmer error in the caller.
+/// of cloth vertices, rest rows 0 or |V|); always on, since a wrong shape is a programmer error in
+/// the caller.
 void demand_valid(const CollisionMesh& mesh);
 
 /// True when responses must not move vertex `v`: obstacle meshes and frozen vertices.

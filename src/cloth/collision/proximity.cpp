@@ -1,5 +1,7 @@
 #include "cloth/collision/proximity.hpp"
 
+#include <numbers>
+
 #include "cloth/collision/closest_points.hpp"
 
 namespace dexcloth::collision {
@@ -30,6 +32,33 @@ bool across_surface(const Vec3& gap, const Vec3& direction) {
   return std::abs(gap.dot(direction)) >= kMinAcrossCosine * g * d;
 }
 
+// Two points of one cloth within the thickness of each other across its surface are joined by a
+// fold at least as long as a half circle of that diameter, π/2 · thickness. Pairs closer than that
+// in the rest shape are bending neighbours, not contacts: on a mesh whose edges are about the
+// thickness long, a bent sheet otherwise pushes its own two-ring neighbours apart, and a napkin
+// hung by a corner crumpled into a ball. Continuous collision detection still stops them crossing.
+constexpr double kFoldLength = 0.5 * std::numbers::pi;
+
+/// True when the pair lies on one cloth with rest positions and closer than a fold at rest.
+bool rest_neighbours_vf(const CollisionMesh& vm, const CollisionMesh& fm, int v,
+                        const std::array<int, 3>& f, double thickness) {
+  if (&vm != &fm || fm.rest.rows() == 0) return false;
+  const Vec3 p = vm.rest.row(v).transpose(), a = fm.rest.row(f[0]).transpose(),
+             b = fm.rest.row(f[1]).transpose(), c = fm.rest.row(f[2]).transpose();
+  const Vec3 bary = closest_point_triangle(p, a, b, c);
+  return (p - (bary[0] * a + bary[1] * b + bary[2] * c)).norm() < kFoldLength * thickness;
+}
+
+bool rest_neighbours_ee(const CollisionMesh& ma, const CollisionMesh& mb,
+                        const std::array<int, 2>& ea, const std::array<int, 2>& eb,
+                        double thickness) {
+  if (&ma != &mb || ma.rest.rows() == 0) return false;
+  const Vec3 p0 = ma.rest.row(ea[0]).transpose(), p1 = ma.rest.row(ea[1]).transpose(),
+             q0 = mb.rest.row(eb[0]).transpose(), q1 = mb.rest.row(eb[1]).transpose();
+  const Vec2 su = closest_points_segments(p0, p1, q0, q1);
+  return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm() < kFoldLength * thickness;
+}
+
 }  // namespace
 
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
@@ -50,6 +79,7 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
     if (dist >= thickness) continue;
     const bool cloth_pair = !vm.obstacle && !fm.obstacle;
     if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) continue;
+    if (rest_neighbours_vf(vm, fm, c.vertex, {a, b, cc}, thickness)) continue;
     Proximity prox;
     prox.edge_edge = false;
     prox.mesh = {c.vertex_mesh, c.face_mesh};
@@ -78,6 +108,7 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
     if (dist >= thickness) continue;
     const bool cloth_pair = !ma.obstacle && !mb.obstacle;
     if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) continue;
+    if (rest_neighbours_ee(ma, mb, ea, eb, thickness)) continue;
     Proximity prox;
     prox.edge_edge = true;
     prox.mesh = {c.mesh_a, c.mesh_b};

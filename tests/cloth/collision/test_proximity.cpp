@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "cloth/collision/closest_points.hpp"
 #include "cloth/collision/collision_candidates.hpp"
 #include "cloth/collision/proximity.hpp"
 #include "mesh_builders.hpp"
@@ -74,4 +77,68 @@ TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
   bool vertex0 = false;
   for (const Proximity& p : found) vertex0 = vertex0 || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0);
   EXPECT_TRUE(vertex0);
+}
+
+namespace {
+
+/// A 5 mm grid strip 0.2 m long folded in the middle into a U of inner radius r (arms 2r
+/// apart along z), its rest shape the flat strip.
+CollisionMesh folded_strip(double r) {
+  CollisionMesh strip = make_sheet(40, 2, 0.2, 0.01, Vec3::Zero(), 1e-4);
+  strip.rest = strip.x0;
+  const double half_arc = 0.5 * M_PI * r;
+  for (int v = 0; v < strip.x0.rows(); ++v) {
+    const double s = strip.rest(v, 0) - 0.1;  // arc length from the fold's bottom
+    double x = 0.0, z = 0.0;
+    if (std::abs(s) <= half_arc) {
+      x = r - r * std::cos(s / r);
+      z = r * std::sin(s / r);
+    } else {
+      x = r + std::abs(s) - half_arc;
+      z = s > 0 ? r : -r;
+    }
+    strip.x0(v, 0) = x;
+    strip.x0(v, 2) = z;
+  }
+  strip.x1 = strip.x0;
+  return strip;
+}
+
+/// Distance in the rest shape between the two primitives of `p` (one mesh) [m].
+double rest_distance(const CollisionMesh& m, const Proximity& p) {
+  const auto at = [&](int k) {
+    return Vec3(m.rest.row(p.corner[static_cast<std::size_t>(k)]).transpose());
+  };
+  if (p.edge_edge) {
+    const Vec2 su = closest_points_segments(at(0), at(1), at(2), at(3));
+    return ((at(0) + su[0] * (at(1) - at(0))) - (at(2) + su[1] * (at(3) - at(2)))).norm();
+  }
+  const Vec3 b = closest_point_triangle(at(0), at(1), at(2), at(3));
+  return (at(0) - (b[0] * at(1) + b[1] * at(2) + b[2] * at(3))).norm();
+}
+
+}  // namespace
+
+TEST(Proximity, AFoldedClothRepelsAcrossTheFoldButNotItsOwnBendingNeighbours) {
+  // Arms 4 mm apart, thickness 5 mm: a fold joins two points within the thickness only if they
+  // are at least π/2 · 5 = 7.85 mm apart along the cloth. Closer pairs at rest bend, they do
+  // not touch; the arms beyond them still repel each other.
+  const double thickness = 5e-3, fold = 0.5 * M_PI * thickness;
+  CollisionMesh strip = folded_strip(2e-3);
+  const std::vector<Proximity> found = proximities({&strip}, thickness);
+  int across_arms = 0;
+  for (const Proximity& p : found) {
+    EXPECT_GE(rest_distance(strip, p), fold) << (p.edge_edge ? "edge-edge " : "vertex-face ")
+                                             << p.first << " " << p.second;
+    if (p.distance < 4e-3 + 1e-9) ++across_arms;
+  }
+  EXPECT_GT(across_arms, 20);
+  // The same fold without a rest shape counts the bending neighbours at the fold as contacts.
+  CollisionMesh no_rest = strip;
+  no_rest.rest.resize(0, 3);
+  const std::vector<Proximity> all = proximities({&no_rest}, thickness);
+  int neighbours = 0;
+  for (const Proximity& p : all) neighbours += rest_distance(strip, p) < fold;
+  EXPECT_GT(neighbours, 0);
+  EXPECT_EQ(all.size(), found.size() + static_cast<std::size_t>(neighbours));
 }
