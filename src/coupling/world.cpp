@@ -14,6 +14,7 @@ WorldData make_data(const WorldModel& model, RigidSide rigid) {
     mesh.x0 = mesh.x1 = body.x_rest;
     mesh.faces = body.model.faces;
     mesh.rest = body.x_rest;
+    mesh.self_collision = model.self_collision;
     mesh.mass = body.model.mass;
     mesh.frozen.assign(static_cast<std::size_t>(body.x_rest.rows()), 0);
     mesh.friction = body.model.material.friction;

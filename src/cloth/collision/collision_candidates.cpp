@@ -75,6 +75,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   for (std::size_t a = 0; a < nm; ++a) {
     for (std::size_t b = a; b < nm; ++b) {
       if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
+      if (a == b && !meshes[a]->self_collision) continue;
       collect(meshes, static_cast<int>(a), static_cast<int>(b));
     }
   }

@@ -39,8 +39,9 @@ class CollisionCandidates {
   /// Refits every mesh's tree on the boxes of x0 ∪ x1 (`swept`) or of x0 alone, inflated by
   /// `margin` [m] (two primitives within 2·margin are found), then collects every vertex–face and
   /// edge–edge pair whose faces' boxes overlap and whose own boxes overlap: within each cloth
-  /// mesh, between cloth meshes, between cloth and obstacles (never obstacle–obstacle). Pairs
-  /// sharing a vertex are left out. Each pair appears once.
+  /// mesh (unless its `self_collision` is off), between cloth meshes, between cloth and
+  /// obstacles (never obstacle–obstacle). Pairs sharing a vertex are left out. Each pair
+  /// appears once.
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
   void reset() { m_topology.clear(); }

@@ -93,6 +93,7 @@ int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool us
       const CollisionMesh& mi = *meshes[i];
       const CollisionMesh& mj = *meshes[j];
       if (mi.obstacle && mj.obstacle) continue;
+      if (i == j && !mi.self_collision) continue;
       pairs.clear();
       if (i == j) self_overlapping_faces(bvhs[i], mi.faces, true, pairs);
       else overlapping_faces(bvhs[i], bvhs[j], pairs);

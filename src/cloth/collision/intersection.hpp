@@ -19,8 +19,9 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
                          const Vec3& b1, const Vec3& b2);
 
 /// Number of intersecting triangle pairs at x0 (`use_x1` false) or x1 (`use_x1` true): within
-/// each cloth mesh (pairs sharing a vertex are skipped), between cloth meshes, and between cloth
-/// and obstacle meshes; obstacle–obstacle pairs are ignored. Builds its own BVHs (diagnostic use).
+/// each cloth mesh with self-collision on (pairs sharing a vertex are skipped), between cloth
+/// meshes, and between cloth and obstacle meshes; obstacle–obstacle pairs are ignored. Builds its
+/// own BVHs (diagnostic use).
 int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1);
 
 }  // namespace dexcloth::collision

@@ -142,3 +142,16 @@ TEST(Proximity, AFoldedClothRepelsAcrossTheFoldButNotItsOwnBendingNeighbours) {
   EXPECT_GT(neighbours, 0);
   EXPECT_EQ(all.size(), found.size() + static_cast<std::size_t>(neighbours));
 }
+
+TEST(Proximity, AClothWithoutSelfCollisionHasNoContactsWithItselfOnly) {
+  // The folded strip's arms 4 mm apart: no pairs with itself once self-collision is off, while a
+  // second sheet 2 mm under the lower arm still meets it.
+  CollisionMesh strip = folded_strip(2e-3);
+  ASSERT_FALSE(proximities({&strip}, 5e-3).empty());
+  strip.self_collision = false;
+  EXPECT_TRUE(proximities({&strip}, 5e-3).empty());
+  const CollisionMesh below = make_sheet(10, 2, 0.05, 0.01, Vec3(0.01, 0, -4e-3), 1e-4);
+  const std::vector<Proximity> found = proximities({&strip, &below}, 5e-3);
+  ASSERT_FALSE(found.empty());
+  for (const Proximity& p : found) EXPECT_NE(p.mesh[0], p.mesh[1]);
+}
