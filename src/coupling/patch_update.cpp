@@ -102,16 +102,29 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
                                      mesh.mass[i]});
     }
     // Cluster (eqs. 9–11, on the touched surfaces' normals) and fit one thin box per cluster.
-    const auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
+    auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
+    // A fold (or layers) of this cloth squeezed between two fingers clusters into one layer per
+    // finger, each a free patch its finger pushes aside: join facing layers into one stack.
+    std::vector<std::vector<SurfaceTouch>> touches(clusters.size());
+    for (std::size_t k = 0; k < clusters.size(); ++k) {
+      surface_touches(clusters[k], cloth_meshes, data);
+      touches[k] = data.patch_touches;
+    }
+    const std::vector<int> layers =
+        join_facing_clusters(clusters, touches, 4.0 * model.thickness + model.clusters.offset,
+                             model.clusters.distance);
     // The cloth keeps obstacles one repulsion thickness away on each side, so a patch as thick
     // as 2 × thickness makes a pinch close to where the repulsion of both jaws is just met;
     // thinner patches let the jaws in closer than the two repulsion layers, whose opposite
     // targets cannot both be met and the cloth is squeezed out sideways.
-    for (const auto& cluster : clusters) {
+    for (std::size_t k = 0; k < clusters.size(); ++k) {
+      const std::vector<int>& cluster = clusters[k];
       RigidPatch patch = build_patch(data.patch_vertices, cluster, 2.0 * model.thickness,
                                      2.0 * model.thickness);
       surface_touches(cluster, cloth_meshes, data);
-      centre_between_surfaces(patch, data.patch_touches, pinched_thickness);
+      // n layers between two fingers keep n + 1 repulsion thicknesses between them.
+      centre_between_surfaces(patch, data.patch_touches,
+                              pinched_thickness + (layers[k] - 1) * model.thickness);
       for (int& k : patch.vertices) k = data.patch_vertex_ids[static_cast<std::size_t>(k)];
       patch.cloth = c;
       data.patches.push_back(std::move(patch));

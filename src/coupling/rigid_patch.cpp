@@ -158,6 +158,9 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
     cov += r * r.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+  // Vertices pressed from opposite sides (a stack) can have normals summing to zero.
+  if (mean_normal.norm() < 1e-9 * static_cast<double>(cluster.size()))
+    mean_normal = vertices[cluster.front()].n;
   Vec3 n = cluster.size() >= 3 ? Vec3(eig.eigenvectors().col(0)) : mean_normal.normalized();
   if (n.dot(mean_normal) < 0) n = -n;
   // In-plane basis, then the minimum-area rectangle of the projected vertices.
@@ -251,7 +254,7 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
   Vec3 n(median(f.normals[0]), median(f.normals[1]), median(f.normals[2]));
   n.normalize();
   FacingSurfaces turned = facing_surfaces(touches, patch.center, n);
-  if (!turned.above.empty() && !turned.below.empty()) {
+  if (std::isfinite(n.norm()) && !turned.above.empty() && !turned.below.empty()) {
     patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
     f = std::move(turned);
   } else {
@@ -263,6 +266,61 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
   patch.center += shift;
   patch.linear_velocity += patch.angular_velocity.cross(shift);
   patch.size.z() = thickness;
+}
+
+std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
+                                      std::span<const std::vector<SurfaceTouch>> touches,
+                                      double max_gap, double max_lateral) {
+  const int n = static_cast<int>(clusters.size());
+  const double min_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
+  // Mean surface point and normal of each cluster touched from one side only.
+  std::vector<bool> one_sided(static_cast<std::size_t>(n), false);
+  std::vector<Vec3> point(static_cast<std::size_t>(n), Vec3::Zero()),
+      normal(static_cast<std::size_t>(n), Vec3::Zero());
+  for (int c = 0; c < n; ++c) {
+    const auto& t = touches[static_cast<std::size_t>(c)];
+    if (t.empty()) continue;
+    Vec3 p = Vec3::Zero(), m = Vec3::Zero();
+    for (const SurfaceTouch& s : t) {
+      p += s.point;
+      m += s.normal;
+    }
+    if (m.norm() == 0.0) continue;
+    m.normalize();
+    bool same_side = true;
+    for (const SurfaceTouch& s : t) same_side = same_side && s.normal.dot(m) >= min_cosine;
+    one_sided[static_cast<std::size_t>(c)] = same_side;
+    point[static_cast<std::size_t>(c)] = p / static_cast<double>(t.size());
+    normal[static_cast<std::size_t>(c)] = m;
+  }
+  const auto facing = [&](int a, int b) {
+    const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+    if (!one_sided[ua] || !one_sided[ub] || normal[ua].dot(normal[ub]) > -min_cosine) return false;
+    const Vec3 d = point[ub] - point[ua];
+    const double ahead = d.dot(normal[ua]);
+    return ahead > 0.0 && ahead <= max_gap && (d - ahead * normal[ua]).norm() <= max_lateral;
+  };
+  DisjointSets sets(n);
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      if (facing(a, b) && facing(b, a)) sets.join(a, b);
+  std::vector<std::vector<int>> joined;
+  std::vector<int> layers, slot(static_cast<std::size_t>(n), -1);
+  for (int c = 0; c < n; ++c) {
+    const int root = sets.find(c);
+    if (slot[static_cast<std::size_t>(root)] < 0) {
+      slot[static_cast<std::size_t>(root)] = static_cast<int>(joined.size());
+      joined.emplace_back();
+      layers.push_back(0);
+    }
+    const auto j = static_cast<std::size_t>(slot[static_cast<std::size_t>(root)]);
+    joined[j].insert(joined[j].end(), clusters[static_cast<std::size_t>(c)].begin(),
+                     clusters[static_cast<std::size_t>(c)].end());
+    ++layers[j];
+  }
+  for (auto& c : joined) std::sort(c.begin(), c.end());
+  clusters = std::move(joined);
+  return layers;
 }
 
 }  // namespace dexcloth::coupling

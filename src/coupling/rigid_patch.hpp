@@ -66,6 +66,19 @@ struct SurfaceTouch {
 void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 
+/// Joins clusters of one cloth that are pressed from opposite sides into one stack (a fold or
+/// several layers of cloth between two fingers). `touches[c]` are the rigid surfaces touching
+/// cluster c. A cluster touched from one side only (all its surface normals within 20° of their
+/// mean m) joins another one-sided cluster whose mean normal is within 20° of −m when each
+/// faces the other: the other's mean surface point lies ahead along m by at most `max_gap` [m]
+/// and within `max_lateral` [m] of its own across m. Each cluster is pressed by one finger
+/// only, so each patch alone would be a free light box the finger pushes aside; as one patch
+/// the stack is squeezed between both. Returns, per resulting cluster, the number of clusters
+/// (layers) it joins; `clusters` is rewritten (each joined cluster sorted).
+std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
+                                      std::span<const std::vector<SurfaceTouch>> touches,
+                                      double max_gap, double max_lateral);
+
 /// Minimum-area enclosing rectangle of 2-D points: its centre, unit axis u (v = u rotated by 90°)
 /// and full extents. Exposed for tests.
 struct Rectangle2 {

@@ -186,3 +186,44 @@ TEST(RigidPatch, APatchFittedToTiltedClothIsTurnedToTheFingersItIsSqueezedBetwee
   EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
   EXPECT_NEAR((p.linear_velocity - v0).norm(), 0.0, 1e-12);
 }
+
+TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
+  // Clusters 0 and 1: the two layers of a fold, pressed by the thumb from below (normal +z at
+  // z = −5 mm) and by the index from above (normal −z at z = +10 mm), side by side within 4 mm.
+  // Cluster 2: a layer pressed from below only, 60 mm away. Cluster 3: pressed from both sides
+  // already. Cluster 4: touches nothing rigid.
+  std::vector<std::vector<int>> clusters{{0, 1}, {2, 3}, {4}, {5}, {6}};
+  std::vector<std::vector<SurfaceTouch>> touches(5);
+  touches[0] = {{Vec3(0, 0, -0.005), Vec3::UnitZ()}, {Vec3(0.004, 0, -0.005), Vec3::UnitZ()}};
+  touches[1] = {{Vec3(0.002, 0.003, 0.010), -Vec3::UnitZ()}};
+  touches[2] = {{Vec3(0.06, 0, 0.010), -Vec3::UnitZ()}};
+  touches[3] = {{Vec3(0, 0.03, -0.005), Vec3::UnitZ()}, {Vec3(0, 0.03, 0.005), -Vec3::UnitZ()}};
+  const std::vector<int> layers = join_facing_clusters(clusters, touches, 0.023, 0.04);
+  ASSERT_EQ(clusters.size(), 4u);
+  EXPECT_EQ(clusters[0], (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(layers, (std::vector<int>{2, 1, 1, 1}));
+  EXPECT_EQ(clusters[1], std::vector<int>{4});
+  // Farther apart than max_gap (15 mm between the surfaces against 12 mm): not joined.
+  std::vector<std::vector<int>> apart{{0, 1}, {2, 3}};
+  const std::vector<int> single =
+      join_facing_clusters(apart, std::span(touches.data(), 2), 0.012, 0.04);
+  EXPECT_EQ(single, (std::vector<int>{1, 1}));
+  // Two layers pressed from the same side are not a stack.
+  std::vector<std::vector<int>> same{{0}, {1}};
+  const std::vector<std::vector<SurfaceTouch>> below{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
+                                                     {{Vec3(0, 0, 0.005), Vec3::UnitZ()}}};
+  EXPECT_EQ(join_facing_clusters(same, below, 0.023, 0.04), (std::vector<int>{1, 1}));
+}
+
+TEST(RigidPatch, APatchOfTwoVerticesPressedFromOppositeSidesHasAFiniteFrame) {
+  // The two layers of a fold, one vertex each, with opposite normals.
+  std::vector<PatchVertex> v(2);
+  v[0] = {Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3::UnitZ(), 1e-3};
+  v[1] = {Vec3(0.001, 0, 0.005), Vec3(0.01, 0, 0), -Vec3::UnitZ(), 1e-3};
+  const std::vector<int> both{0, 1};
+  const RigidPatch p = build_patch(v, both, 0.010, 0.010);
+  EXPECT_TRUE(p.R.allFinite());
+  EXPECT_TRUE(p.center.allFinite());
+  EXPECT_TRUE(p.linear_velocity.allFinite());
+  EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
+}
