@@ -2,7 +2,8 @@
 /// the paper's Table-1 split. Each scene is stepped by coupling::step, as `dexcloth run` steps it,
 /// up to a time where the cloth is held, then single steps are timed:
 ///   BM_Coupled/gripper_pinch  scenes/gripper_pinch.json from 1.2 s (strip held, gripper still).
-/// (The hand's pinch_move scene is to be added here once it holds, issue #5.)
+///   BM_Coupled/pinch_napkin   scenes/pinch_napkin.json from 2.2 s (the hand carrying the napkin).
+/// (The hand's full-size pinch_move scene is to be added once it holds, issue #5.)
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
 /// triangles. Run (Release):
@@ -55,6 +56,9 @@ void BM_Coupled(benchmark::State& bench, const std::string& name, double t_start
 }
 
 BENCHMARK_CAPTURE(BM_Coupled, gripper_pinch, std::string("gripper_pinch"), 1.2)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(100);
+BENCHMARK_CAPTURE(BM_Coupled, pinch_napkin, std::string("pinch_napkin"), 2.2)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(100);
 
