@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "coupling/friction_ncp.hpp"
@@ -264,7 +265,8 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
 int apply_friction(double h, double coplanar_deg, WorldData& data) {
   const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
   const std::vector<ContactGroup>& groups = data.interface.groups;
-  int frozen = 0;
+  int frozen = 0, unsolved = 0, worst_cloth = -1, worst_vertex = -1;
+  double worst = 0.0;
   std::array<FrictionContact, kMaxVertexContacts> contacts;
   std::size_t g = 0;
   while (g < groups.size()) {
@@ -307,11 +309,27 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
         mesh.frozen[static_cast<std::size_t>(i)] = collision::kHeldByFriction;
         ++frozen;
       }
-      if (!r.ok)
-        data.warnings.add(data.step, "friction NCP at cloth " + std::to_string(groups[g].cloth) +
-                                         " vertex " + std::to_string(i) + " not solved to tolerance");
+      if (!r.ok) {
+        ++unsolved;
+        if (r.violation > worst) {
+          worst = r.violation;
+          worst_cloth = groups[g].cloth;
+          worst_vertex = i;
+        }
+      }
     }
     g = end;
+  }
+  // One warning per step: how many vertices, and the worst (relative to its problem's force scale).
+  if (unsolved > 0) {
+    char worst_text[32];
+    std::snprintf(worst_text, sizeof worst_text, "%.1e", worst);
+    data.warnings.add(data.step, "friction NCP not solved to tolerance at " +
+                                     std::to_string(unsolved) +
+                                     (unsolved == 1 ? " vertex" : " vertices") + "; worst: cloth " +
+                                     std::to_string(worst_cloth) + " vertex " +
+                                     std::to_string(worst_vertex) + ", violation " + worst_text +
+                                     " of its force scale");
   }
   return frozen;
 }

@@ -226,7 +226,8 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
     }
     if (!found) solve_general(contacts, p.a, &p.P, r);
   }
-  r.ok = friction_violation(contacts, mass, h, r, coplanar_sin) <= 1e-9 * force_scale(p);
+  r.violation = friction_violation(contacts, mass, h, r, coplanar_sin) / force_scale(p);
+  r.ok = r.violation <= 1e-9;
   return r;
 }
 

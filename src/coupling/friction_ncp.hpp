@@ -41,6 +41,7 @@ struct FrictionResult {
   FrictionCase which{FrictionCase::none};
   int anchor{-1};              ///< contact the vertex sticks to (static_at)
   bool ok{true};               ///< every condition verified to tolerance
+  double violation{};          ///< friction_violation relative to the problem's force scale
 };
 
 /// Normals closer than this (|n_i × n_0|) are parallel to rounding.

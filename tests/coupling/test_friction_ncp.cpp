@@ -135,6 +135,22 @@ TEST(FrictionNcp, NonParallelPlanesGeneralSolver) {
   expect_valid(c, r);
 }
 
+TEST(FrictionNcp, TheResultReportsItsViolationRelativeToTheForceScale) {
+  // Solved: the reported violation is friction_violation over the scale, ≤ 1e-9. A result with
+  // a force moved off the solution reports a violation of that size and is not ok.
+  const std::vector c{contact(Vec3::UnitZ(), 0.01, 0.5, Vec3(0.05, 0.02, 0.01)),
+                      contact(Vec3::UnitX(), 0.02, 0.4, Vec3(0.01, -0.03, 0.02))};
+  const FrictionResult r = solve_friction(c, kMass, kH);
+  double scale = 0.0;
+  for (const auto& ci : c)
+    scale = std::max({scale, ci.mu * ci.normal_force, kA * ci.relative_velocity.norm()});
+  EXPECT_NEAR(r.violation, friction_violation(c, kMass, kH, r) / scale, 1e-15);
+  EXPECT_LE(r.violation, 1e-9);
+  FrictionResult off = r;
+  off.force[0] += Vec3(0, 0.1 * scale, 0);
+  EXPECT_GE(friction_violation(c, kMass, kH, off) / scale, 0.05);
+}
+
 TEST(FrictionNcp, NoCapacityNoForce) {
   const std::vector c{contact(Vec3::UnitZ(), 0.0, 0.5, Vec3(0.05, 0, 0))};
   const FrictionResult r = solve_friction(c, kMass, kH);
