@@ -32,9 +32,10 @@ namespace {
 constexpr double kPinchMargin = 0.01;
 
 /// The rigid surface points (at the rigid bodies' current poses) and normals touching the cloth
-/// vertices of one cluster, from their contact groups' heaviest records, into data.patch_touches.
-void surface_touches(const std::vector<int>& cluster, int cloth_meshes, WorldData& data) {
-  data.patch_touches.clear();
+/// vertices of one cluster, from their contact groups' heaviest records, into `out`.
+void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const WorldData& data,
+                     std::vector<SurfaceTouch>& out) {
+  out.clear();
   const std::vector<ContactGroup>& groups = data.interface.groups;
   for (int k : cluster) {
     const auto [first, end] = data.patch_vertex_groups[static_cast<std::size_t>(k)];
@@ -47,7 +48,7 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, WorldDat
         if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
-      data.patch_touches.push_back({point, group.normal});
+      out.push_back({point, group.normal});
     }
   }
 }
@@ -105,11 +106,10 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
     // A fold (or layers) of this cloth squeezed between two fingers clusters into one layer per
     // finger, each a free patch its finger pushes aside: join facing layers into one stack.
-    std::vector<std::vector<SurfaceTouch>> touches(clusters.size());
-    for (std::size_t k = 0; k < clusters.size(); ++k) {
-      surface_touches(clusters[k], cloth_meshes, data);
-      touches[k] = data.patch_touches;
-    }
+    std::vector<std::vector<SurfaceTouch>>& touches = data.cluster_touches;
+    touches.resize(clusters.size());
+    for (std::size_t k = 0; k < clusters.size(); ++k)
+      surface_touches(clusters[k], cloth_meshes, data, touches[k]);
     const std::vector<int> layers =
         join_facing_clusters(clusters, touches, 4.0 * model.thickness + model.clusters.offset,
                              model.clusters.distance);
@@ -121,11 +121,10 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
       const std::vector<int>& cluster = clusters[k];
       RigidPatch patch = build_patch(data.patch_vertices, cluster, 2.0 * model.thickness,
                                      2.0 * model.thickness);
-      surface_touches(cluster, cloth_meshes, data);
       // n layers between two fingers keep n + 1 repulsion thicknesses between them.
-      centre_between_surfaces(patch, data.patch_touches,
+      centre_between_surfaces(patch, touches[k],
                               pinched_thickness + (layers[k] - 1) * model.thickness);
-      for (int& k : patch.vertices) k = data.patch_vertex_ids[static_cast<std::size_t>(k)];
+      for (int& v : patch.vertices) v = data.patch_vertex_ids[static_cast<std::size_t>(v)];
       patch.cloth = c;
       data.patches.push_back(std::move(patch));
     }

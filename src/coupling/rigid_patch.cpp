@@ -27,6 +27,20 @@ struct DisjointSets {
     b = find(b);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
+  /// The sets as lists of their members (each increasing), in order of their smallest member.
+  std::vector<std::vector<int>> components() {
+    std::vector<std::vector<int>> out;
+    std::vector<int> slot(parent.size(), -1);
+    for (int i = 0; i < static_cast<int>(parent.size()); ++i) {
+      const int root = find(i);
+      if (slot[static_cast<std::size_t>(root)] < 0) {
+        slot[static_cast<std::size_t>(root)] = static_cast<int>(out.size());
+        out.emplace_back();
+      }
+      out[static_cast<std::size_t>(slot[static_cast<std::size_t>(root)])].push_back(i);
+    }
+    return out;
+  }
 };
 
 bool joinable(const PatchVertex& a, const PatchVertex& b, const ClusterParams& p, double chord) {
@@ -88,18 +102,7 @@ std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vert
             if (j > i && joinable(vertices[i], vertices[j], params, chord)) sets.join(i, j);
         }
   }
-  // Collect clusters in order of their smallest member.
-  std::vector<std::vector<int>> clusters;
-  std::vector<int> slot(static_cast<std::size_t>(n), -1);
-  for (int i = 0; i < n; ++i) {
-    const int root = sets.find(i);
-    if (slot[root] < 0) {
-      slot[root] = static_cast<int>(clusters.size());
-      clusters.emplace_back();
-    }
-    clusters[slot[root]].push_back(i);
-  }
-  return clusters;
+  return sets.components();
 }
 
 Rectangle2 min_area_rectangle(std::span<const Vec2> points) {
@@ -269,7 +272,7 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 }
 
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
-                                      std::span<const std::vector<SurfaceTouch>> touches,
+                                      std::vector<std::vector<SurfaceTouch>>& touches,
                                       double max_gap, double max_lateral) {
   const int n = static_cast<int>(clusters.size());
   const double min_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
@@ -301,25 +304,36 @@ std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
     return ahead > 0.0 && ahead <= max_gap && (d - ahead * normal[ua]).norm() <= max_lateral;
   };
   DisjointSets sets(n);
+  bool any = false;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
-      if (facing(a, b) && facing(b, a)) sets.join(a, b);
-  std::vector<std::vector<int>> joined;
-  std::vector<int> layers, slot(static_cast<std::size_t>(n), -1);
-  for (int c = 0; c < n; ++c) {
-    const int root = sets.find(c);
-    if (slot[static_cast<std::size_t>(root)] < 0) {
-      slot[static_cast<std::size_t>(root)] = static_cast<int>(joined.size());
-      joined.emplace_back();
-      layers.push_back(0);
-    }
-    const auto j = static_cast<std::size_t>(slot[static_cast<std::size_t>(root)]);
-    joined[j].insert(joined[j].end(), clusters[static_cast<std::size_t>(c)].begin(),
-                     clusters[static_cast<std::size_t>(c)].end());
-    ++layers[j];
+      if (facing(a, b) && facing(b, a)) {
+        sets.join(a, b);
+        any = true;
+      }
+  std::vector<int> layers;
+  if (!any) {
+    layers.assign(static_cast<std::size_t>(n), 1);
+    return layers;
   }
-  for (auto& c : joined) std::sort(c.begin(), c.end());
-  clusters = std::move(joined);
+  // Each stack: its clusters' vertices (sorted) and touches, concatenated in the first slot.
+  const std::vector<std::vector<int>> stacks = sets.components();
+  for (std::size_t j = 0; j < stacks.size(); ++j) {
+    const auto first = static_cast<std::size_t>(stacks[j].front());
+    std::vector<int> members = std::move(clusters[first]);
+    std::vector<SurfaceTouch> surfaces = std::move(touches[first]);
+    for (std::size_t q = 1; q < stacks[j].size(); ++q) {
+      const auto c = static_cast<std::size_t>(stacks[j][q]);
+      members.insert(members.end(), clusters[c].begin(), clusters[c].end());
+      surfaces.insert(surfaces.end(), touches[c].begin(), touches[c].end());
+    }
+    if (stacks[j].size() > 1) std::sort(members.begin(), members.end());
+    clusters[j] = std::move(members);
+    touches[j] = std::move(surfaces);
+    layers.push_back(static_cast<int>(stacks[j].size()));
+  }
+  clusters.resize(stacks.size());
+  touches.resize(stacks.size());
   return layers;
 }
 

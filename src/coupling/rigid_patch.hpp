@@ -74,9 +74,10 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 /// and within `max_lateral` [m] of its own across m. Each cluster is pressed by one finger
 /// only, so each patch alone would be a free light box the finger pushes aside; as one patch
 /// the stack is squeezed between both. Returns, per resulting cluster, the number of clusters
-/// (layers) it joins; `clusters` is rewritten (each joined cluster sorted).
+/// (layers) it joins; `clusters` and `touches` are rewritten alike (a joined cluster's members
+/// sorted, its touches concatenated), in order of each stack's first cluster.
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
-                                      std::span<const std::vector<SurfaceTouch>> touches,
+                                      std::vector<std::vector<SurfaceTouch>>& touches,
                                       double max_gap, double max_lateral);
 
 /// Minimum-area enclosing rectangle of 2-D points: its centre, unit axis u (v = u rotated by 90°)

@@ -107,7 +107,8 @@ struct WorldData {
   std::vector<PatchVertex> patch_vertices;
   std::vector<int> patch_vertex_ids;   ///< cloth vertex of each patch vertex (one cloth at a time)
   std::vector<std::pair<int, int>> patch_vertex_groups;  ///< its contact groups [first, end)
-  std::vector<SurfaceTouch> patch_touches;  ///< rigid surfaces touching one cluster's cloth
+  std::vector<std::vector<SurfaceTouch>> cluster_touches;  ///< rigid surfaces touching each
+                                                          ///< cluster's cloth
   Points normals;                       ///< vertex normals scratch
 };
 

@@ -198,20 +198,24 @@ TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
   touches[1] = {{Vec3(0.002, 0.003, 0.010), -Vec3::UnitZ()}};
   touches[2] = {{Vec3(0.06, 0, 0.010), -Vec3::UnitZ()}};
   touches[3] = {{Vec3(0, 0.03, -0.005), Vec3::UnitZ()}, {Vec3(0, 0.03, 0.005), -Vec3::UnitZ()}};
+  const std::vector<std::vector<SurfaceTouch>> original = touches;
   const std::vector<int> layers = join_facing_clusters(clusters, touches, 0.023, 0.04);
   ASSERT_EQ(clusters.size(), 4u);
+  ASSERT_EQ(touches.size(), 4u);
+  EXPECT_EQ(touches[0].size(), 3u);  // the stack's touches: both fingers'
+  EXPECT_EQ(touches[1].size(), 1u);
   EXPECT_EQ(clusters[0], (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(layers, (std::vector<int>{2, 1, 1, 1}));
   EXPECT_EQ(clusters[1], std::vector<int>{4});
   // Farther apart than max_gap (15 mm between the surfaces against 12 mm): not joined.
   std::vector<std::vector<int>> apart{{0, 1}, {2, 3}};
-  const std::vector<int> single =
-      join_facing_clusters(apart, std::span(touches.data(), 2), 0.012, 0.04);
+  std::vector<std::vector<SurfaceTouch>> two{original[0], original[1]};
+  const std::vector<int> single = join_facing_clusters(apart, two, 0.012, 0.04);
   EXPECT_EQ(single, (std::vector<int>{1, 1}));
   // Two layers pressed from the same side are not a stack.
   std::vector<std::vector<int>> same{{0}, {1}};
-  const std::vector<std::vector<SurfaceTouch>> below{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
-                                                     {{Vec3(0, 0, 0.005), Vec3::UnitZ()}}};
+  std::vector<std::vector<SurfaceTouch>> below{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
+                                               {{Vec3(0, 0, 0.005), Vec3::UnitZ()}}};
   EXPECT_EQ(join_facing_clusters(same, below, 0.023, 0.04), (std::vector<int>{1, 1}));
 }
 
