@@ -238,8 +238,9 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
   s.friction_outcome.resize(nc);
   for (auto& list : s.friction) list.clear();
   const std::vector<ContactGroup>& groups = s.groups;
-  // The touched surface's velocity now, at the group's heaviest record.
-  const auto surface = [&](const ContactGroup& cg) {
+  // The touched surface's velocity now, at the group's heaviest record (one std::function for
+  // the whole loop, not one per vertex).
+  const std::function<GripSurface(const ContactGroup&)> surface = [&](const ContactGroup& cg) {
     const auto m = static_cast<std::size_t>(cg.other_mesh - cloth_meshes);
     GripSurface out;
     out.actuated = data.rigid.mesh_actuated[m];
