@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -38,5 +39,22 @@ nlohmann::json read_json(const std::filesystem::path& path) {
 }
 
 std::filesystem::path source_dir() { return DEXCLOTH_SOURCE_DIR; }
+
+nlohmann::json run_scene(const std::string& name, const std::string& args) {
+  const std::filesystem::path out = fresh_dir(name);
+  const auto r = run_cli("run " + (source_dir() / "scenes" / (name + ".json")).string() +
+                         " --quiet --out " + out.string() + " " + args);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return read_json(out / "summary.json");
+}
+
+double probe_distance(const nlohmann::json& a, const nlohmann::json& b) {
+  double sum = 0.0;
+  for (int i = 1; i <= 3; ++i) {
+    const double d = a[i].get<double>() - b[i].get<double>();
+    sum += d * d;
+  }
+  return std::sqrt(sum);
+}
 
 }  // namespace dexcloth::test

@@ -24,4 +24,11 @@ nlohmann::json read_json(const std::filesystem::path& path);
 /// Repository root (for scenes/ and tests data).
 std::filesystem::path source_dir();
 
+/// Runs scenes/<name>.json through the CLI with extra arguments into a fresh folder; a non-zero
+/// exit fails the test. Returns its summary.json.
+nlohmann::json run_scene(const std::string& name, const std::string& args = "");
+
+/// Distance between two probe samples [t, x, y, z] [m].
+double probe_distance(const nlohmann::json& a, const nlohmann::json& b);
+
 }  // namespace dexcloth::test

@@ -8,18 +8,8 @@
 #include "cli_runner.hpp"
 
 using namespace dexcloth::test;
-namespace fs = std::filesystem;
 
 namespace {
-
-/// Runs scenes/<name>.json with extra CLI arguments; returns its summary.
-nlohmann::json run_scene(const std::string& name, const std::string& args) {
-  const fs::path out = fresh_dir(name);
-  const auto r = run_cli("run " + (source_dir() / "scenes" / (name + ".json")).string() +
-                         " --quiet --out " + out.string() + " " + args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  return read_json(out / "summary.json");
-}
 
 /// Warnings from collision handling (impact-zone fallbacks, unresolved impacts).
 int collision_warnings(const nlohmann::json& s) {
@@ -88,7 +78,7 @@ TEST(CollisionScenes, SheetFoldedOntoItselfAndASecondSheetNeverIntersect) {
 TEST(CollisionScenes, ANapkinLiftedByACornerHangsAlongItsDiagonalInsteadOfCrumpling) {
   // The far corner hangs a diagonal (14.1 cm) less the held square's (1.4 cm) below the held
   // one. When bending neighbours repelled each other it crumpled into a ball 0.4 cm tall.
-  const auto s = run_scene("napkin_corner", "");
+  const auto s = run_scene("napkin_corner");
   const auto& held = s["probes"]["held"];
   const auto& far = s["probes"]["far"];
   ASSERT_EQ(held.size(), far.size());

@@ -4,14 +4,9 @@
 #include "cli_runner.hpp"
 
 using namespace dexcloth::test;
-namespace fs = std::filesystem;
 
 TEST(Hand, PinchLiftsTheBallTenCentimetresAndHoldsIt) {
-  const fs::path out = fresh_dir("hand");
-  const auto r = run_cli("run " + (source_dir() / "scenes" / "hand_grasp_ball.json").string() +
-                         " --quiet --out " + out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto s = read_json(out / "summary.json");
+  const auto s = run_scene("hand_grasp_ball");
   const auto& ball = s["probes"]["ball"];
   const double z0 = ball.front()[3].get<double>();
   const double z_end = ball.back()[3].get<double>();

@@ -31,13 +31,6 @@ const nlohmann::json& sample_at(const nlohmann::json& track, double t) {
   return *last;
 }
 
-double distance(const nlohmann::json& a, const nlohmann::json& b) {
-  const double dx = a[1].get<double>() - b[1].get<double>();
-  const double dy = a[2].get<double>() - b[2].get<double>();
-  const double dz = a[3].get<double>() - b[3].get<double>();
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
-}
-
 }  // namespace
 
 TEST(HandBox, GraspLiftsTheBoxWithTheWristAndHoldsItStill) {
@@ -56,7 +49,7 @@ TEST(HandBox, GraspLiftsTheBoxWithTheWristAndHoldsItStill) {
   EXPECT_NEAR(wrist_rise, 0.1, 0.005);
   EXPECT_NEAR(box_rise, wrist_rise, 0.01) << "box rose " << box_rise << " m";
   // Held still from 1.7 s to the end (2.5 s): the box moves less than 1 mm in the world.
-  const double drift = distance(box.back(), sample_at(box, kHoldStart));
+  const double drift = probe_distance(box.back(), sample_at(box, kHoldStart));
   EXPECT_LT(drift, 1e-3) << "box drifted " << drift << " m during the hold";
   RecordProperty("box_rise_mm", std::to_string(1e3 * box_rise));
   RecordProperty("hold_drift_mm", std::to_string(1e3 * drift));

@@ -2,32 +2,15 @@
 /// (scenes/pinch_napkin.json, paper Fig. 2 "Moving" at napkin size).
 #include <gtest/gtest.h>
 
-#include <Eigen/Core>
 #include <algorithm>
 #include <string>
 
 #include "cli_runner.hpp"
 
 using namespace dexcloth::test;
-namespace fs = std::filesystem;
-
-namespace {
-
-/// Distance between probe samples a and b (rows [t, x, y, z]) [m].
-double distance(const nlohmann::json& a, const nlohmann::json& b) {
-  Eigen::Vector3d d;
-  for (int i = 0; i < 3; ++i) d[i] = a[i + 1].get<double>() - b[i + 1].get<double>();
-  return d.norm();
-}
-
-}  // namespace
 
 TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
-  const fs::path out = fresh_dir("pinch_napkin");
-  const auto r = run_cli("run " + (source_dir() / "scenes" / "pinch_napkin.json").string() +
-                         " --quiet --out " + out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto s = read_json(out / "summary.json");
+  const auto s = run_scene("pinch_napkin");
   const auto& pinched = s["probes"]["pinched"];
   const auto& thumb = s["probes"]["thumb_tip"];
   const auto& index = s["probes"]["index_pad"];
@@ -43,7 +26,8 @@ TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
     const double t = pinched[k][0].get<double>();
     if (t <= 1.4 + 1e-9) z_release = pinched[k][3].get<double>();
     if (t >= 1.4 - 1e-9)
-      farthest = std::max({farthest, distance(pinched[k], thumb[k]), distance(pinched[k], index[k])});
+      farthest = std::max(
+          {farthest, probe_distance(pinched[k], thumb[k]), probe_distance(pinched[k], index[k])});
   }
   EXPECT_LT(farthest, 0.09);
   EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.06);
