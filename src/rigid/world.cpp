@@ -180,7 +180,7 @@ void WorldImpl::apply_stable_pd() {
   // other joints (0.2 rad on a ring finger with one joint at its limit, fingertip contact forces
   // attenuated by M (M + h D)⁻¹). Here the LCP sees the whole torque; with τ_c in the prediction,
   // at rest q̈ = 0 and τ = −Kp (q − q*) exactly.
-  const double h = options.time_step;
+  const double h = world->getTimeStep();
   for (auto& rec : skeletons) {
     const bool active = (rec.pd_kp.array() > 0.0).any() || (rec.pd_kd.array() > 0.0).any();
     if (!active || !rec.skel->isMobile()) continue;
@@ -224,11 +224,12 @@ void set_free_root_state(dd::Skeleton& skel, const Eigen::Isometry3d& X_WB, cons
 // ---- construction ------------------------------------------------------------------------------
 
 RigidWorld::RigidWorld(const RigidWorldOptions& options) : m_impl(std::make_unique<detail::WorldImpl>()) {
-  DEXCLOTH_DEMAND(options.time_step > 0.0 && options.max_contacts > 0 && options.patch_capacity >= 0);
+  DEXCLOTH_DEMAND(options.time_step > 0.0 && options.substeps >= 1 && options.max_contacts > 0 &&
+                  options.patch_capacity >= 0);
   auto& w = *m_impl;
   w.options = options;
   w.world = dart::simulation::World::create("dexcloth_rigid");
-  w.world->setTimeStep(options.time_step);
+  w.world->setTimeStep(options.time_step / options.substeps);
   w.world->setGravity(options.gravity_W);
   // Bullet detector (capsules exact), a larger contact cap, our filter.
   auto* solver = w.world->getConstraintSolver();
@@ -393,44 +394,61 @@ SkeletonId RigidWorld::add_prop(const PropSpec& prop) {
 
 void RigidWorld::step() {
   auto& w = *m_impl;
-  w.apply_stable_pd();
-  w.world->step(true);
-  ++w.steps;
-  // Contacts with forces, per body, before anything in the world changes (paper §4.1).
   for (auto& b : w.bodies) b.contacts.clear();
-  const auto& result = w.world->getLastCollisionResult();
-  w.num_contacts = static_cast<int>(result.getNumContacts());
+  w.num_contacts = 0;
+  // The forces added for this step act over all its substeps (zero-order hold).
+  w.held_forces.resize(w.skeletons.size());
+  for (std::size_t s = 0; s < w.skeletons.size(); ++s)
+    w.held_forces[s] = w.skeletons[s].skel->getForces();
+  const int substeps = w.options.substeps;
+  for (int k = 0; k < substeps; ++k) {
+    if (k > 0)
+      for (std::size_t s = 0; s < w.skeletons.size(); ++s)
+        w.skeletons[s].skel->setForces(w.held_forces[s]);
+    w.apply_stable_pd();
+    w.world->step(k + 1 == substeps);
+    w.record_contacts(1.0 / substeps);
+    // Keyframed props move to their pose at the new time.
+    const double t = w.world->getTime();
+    for (auto& s : w.skeletons) {
+      if (s.motion.empty()) continue;
+      const PoseSample p = sample_pose(s.motion, t);
+      detail::set_free_root_state(*s.skel, p.X_WF, p.v_W, p.w_W);
+    }
+  }
+  ++w.steps;
+}
+
+void detail::WorldImpl::record_contacts(double weight) {
+  // Contacts with forces, per body, before anything in the world changes (paper §4.1). Over
+  // substeps, each substep's contacts with its share of the step's mean force.
+  const auto& result = world->getLastCollisionResult();
+  num_contacts = std::max(num_contacts, static_cast<int>(result.getNumContacts()));
   for (const auto& c : result.getContacts()) {
     const auto* s1 = c.collisionObject1->getShapeFrame()->asShapeNode();
     const auto* s2 = c.collisionObject2->getShapeFrame()->asShapeNode();
     if (s1 == nullptr || s2 == nullptr) continue;
-    const int b1 = w.body_index(s1->getBodyNodePtr().get());
-    const int b2 = w.body_index(s2->getBodyNodePtr().get());
+    const int b1 = body_index(s1->getBodyNodePtr().get());
+    const int b2 = body_index(s2->getBodyNodePtr().get());
     // DART: normal from body 2 to body 1, force acts on body 1.
     ContactPoint cp;
     cp.p_W = c.point;
     cp.depth = c.penetrationDepth;
+    const Vec3 f = weight * c.force;
     if (b1 >= 0) {
       cp.n_W = c.normal;
-      cp.f_W = c.force;
-      cp.f_n = std::max(0.0, c.force.dot(c.normal));
+      cp.f_W = f;
+      cp.f_n = std::max(0.0, f.dot(c.normal));
       cp.other = BodyId{b2};
-      w.bodies[static_cast<std::size_t>(b1)].contacts.push_back(cp);
+      bodies[static_cast<std::size_t>(b1)].contacts.push_back(cp);
     }
     if (b2 >= 0) {
       cp.n_W = -c.normal;
-      cp.f_W = -c.force;
-      cp.f_n = std::max(0.0, c.force.dot(c.normal));
+      cp.f_W = -f;
+      cp.f_n = std::max(0.0, f.dot(c.normal));
       cp.other = BodyId{b1};
-      w.bodies[static_cast<std::size_t>(b2)].contacts.push_back(cp);
+      bodies[static_cast<std::size_t>(b2)].contacts.push_back(cp);
     }
-  }
-  // Keyframed props move to their pose at the new time.
-  const double t = w.world->getTime();
-  for (auto& s : w.skeletons) {
-    if (s.motion.empty()) continue;
-    const PoseSample p = sample_pose(s.motion, t);
-    detail::set_free_root_state(*s.skel, p.X_WF, p.v_W, p.w_W);
   }
 }
 

@@ -57,6 +57,7 @@ struct RigidWorldOptions {
   Vec3 gravity_W{0.0, 0.0, -9.81};           ///< [m/s²]
   int max_contacts{4000};                    ///< detector cap (DART silently truncates past it)
   int patch_capacity{64};                    ///< rigid cloth patches in the pool
+  int substeps{1};                           ///< DART steps per step (contacts found at each)
 };
 
 namespace detail {

@@ -70,6 +70,7 @@ coupling::RigidSide build_rigid(const SceneSpec& spec, ErrorList& errors) {
   rigid::RigidWorldOptions options;
   options.time_step = spec.dt;
   options.gravity_W = spec.gravity;
+  options.substeps = spec.coupling.rigid_substeps;
   side.world = std::make_unique<rigid::RigidWorld>(options);
   for (const ObstacleSpec& o : spec.obstacles) side.world->add_prop(to_prop(o));
   const std::string scene_dir = std::filesystem::path(spec.file).parent_path().string();

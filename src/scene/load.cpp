@@ -12,7 +12,7 @@ namespace dexcloth::scene {
 
 namespace {
 
-// `coupling` (mode string) and `coupling_params` (paper §5 clustering thresholds).
+// `coupling` (mode string) and `coupling_params` (paper §5 clustering thresholds, rigid substeps).
 CouplingSpec parse_coupling(Checker& c, const Json& doc, const Pointer& root) {
   CouplingSpec s;
   if (c.string_field(doc, root, "coupling", s.mode)) {
@@ -28,11 +28,16 @@ CouplingSpec parse_coupling(Checker& c, const Json& doc, const Pointer& root) {
   const Json* p = c.member(doc, root, "coupling_params", Need::optional);
   const Pointer at = root / "coupling_params";
   if (!p || !c.require_object(*p, at)) return s;
-  c.check_keys(*p, at, {"cluster_distance", "cluster_normal_deg", "cluster_offset"});
+  c.check_keys(*p, at,
+               {"cluster_distance", "cluster_normal_deg", "cluster_offset", "rigid_substeps"});
   c.number_field(*p, at, "cluster_distance", Rule::positive(), s.cluster_distance);
   c.number_field(*p, at, "cluster_normal_deg", Rule::between(0.0, true, 180.0, false),
                  s.cluster_normal_deg);
   c.number_field(*p, at, "cluster_offset", Rule::positive(), s.cluster_offset);
+  if (const Json* n = c.member(*p, at, "rigid_substeps", Need::optional))
+    if (const auto k =
+            c.require_int(*n, at / "rigid_substeps", Rule::between(1.0, false, 64.0, false)))
+      s.rigid_substeps = *k;
   return s;
 }
 

@@ -102,6 +102,7 @@ struct CouplingSpec {
   double cluster_distance{0.040};    ///< δw [m]
   double cluster_normal_deg{20.0};   ///< δn [deg]
   double cluster_offset{0.003};      ///< δd [m]
+  int rigid_substeps{1};             ///< DART steps (and contact detections) per time step
 };
 
 struct SceneSpec {

@@ -89,6 +89,50 @@ TEST(PatchPool, PatchesOfDifferentLayersStack) {
   EXPECT_NEAR(from_upper.z(), -0.05 * 9.81, 0.05 * 0.05 * 9.81);
 }
 
+/// Where a 15 g fingertip pushed down with 2 N onto a 1 mm patch lying on a block ends after
+/// `steps` steps of 5 ms: the height of its bottom face [m] and the mean force it puts on the
+/// patch in the last step [N]. The finger starts 1 mm above the patch, at rest.
+std::pair<double, double> push_onto_patch(int substeps, int steps) {
+  RigidWorld world{RigidWorldOptions{0.005, Vec3(0, 0, -9.81), 4000, 8, substeps}};
+  PropSpec block;
+  block.name = "block";
+  block.size = Vec3(0.1, 0.1, 0.1);
+  block.X_WP.translation() = Vec3(0, 0, -0.05);  // top face at z = 0
+  world.add_prop(block);
+  const BodyId finger = world.root_body(
+      add_box(world, "finger", Vec3(0.015, 0.015, 0.015), 0.015, Vec3(0, 0, 0.002 + 0.0075)));
+  PatchState patch;
+  patch.active = true;
+  patch.extents = Vec2(0.04, 0.04);
+  patch.thickness = 0.001;
+  patch.X_WP.translation() = Vec3(0, 0, 0.0005);
+  patch.mass = 1.0e-4;
+  for (int i = 0; i < steps; ++i) {
+    world.patches().set(0, patch);  // rebuilt every step, as the coupling does
+    world.add_force_at(finger, Vec3::Zero(), Vec3(0, 0, -2.0));
+    world.step();
+  }
+  Vec3 f = Vec3::Zero();
+  for (const auto& c : world.patches().contacts(0))
+    if (c.other == finger) f += c.f_W;
+  return {world.pose_W(finger).translation().z() - 0.0075, -f.z()};
+}
+
+TEST(PatchPool, SubstepsStopAFingerDrivenOntoAThinPatch) {
+  // Contacts are found once per DART step: a light finger under a large force that starts a step
+  // off the patch moves h² F/m = 3.6 mm in it, through the 1 mm patch into the block. Four
+  // substeps find the patch after at most (h/4)² F/m ≈ 0.7 mm of free travel.
+  EXPECT_LT(push_onto_patch(1, 1).first, 0.0);
+  const double bottom = push_onto_patch(4, 1).first;
+  EXPECT_GT(bottom, 0.0005);
+  EXPECT_LT(bottom, 0.002);
+  // At rest it sits the contact allowance deep, and the contact force over the substeps
+  // averages to the push and the finger's weight.
+  const auto [rest, force] = push_onto_patch(4, 40);
+  EXPECT_NEAR(rest, 0.001 - RigidWorld{}.contact_allowance(), 5e-5);
+  EXPECT_NEAR(force, 2.0 + 0.015 * 9.81, 0.02 * 2.15);
+}
+
 TEST(PatchPool, ResizedPatchCollidesWithItsNewSize) {
   // A patch made wider after creation must support a finger resting off its old extent.
   PatchScene s;

@@ -27,6 +27,7 @@ TEST(LoadScene, FullSceneHasEveryValue) {
   EXPECT_DOUBLE_EQ(s.coupling.cluster_distance, 0.05);
   EXPECT_DOUBLE_EQ(s.coupling.cluster_normal_deg, 15.0);
   EXPECT_DOUBLE_EQ(s.coupling.cluster_offset, 0.002);
+  EXPECT_EQ(s.coupling.rigid_substeps, 3);
   EXPECT_DOUBLE_EQ(s.collision.thickness, 0.004);
   EXPECT_FALSE(s.collision.self_collision);
 

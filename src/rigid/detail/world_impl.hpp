@@ -82,6 +82,7 @@ struct WorldImpl {
   std::vector<int> obstacle_bodies;
   std::vector<LocalMesh> obstacle_local;
   int num_contacts{};
+  std::vector<Eigen::VectorXd> held_forces;  ///< per skeleton, the forces added for a step
 
   /// Adds `skel` to the DART world and registers its bodies.
   int register_skeleton(dart::dynamics::SkeletonPtr skel, std::string file);
@@ -91,6 +92,8 @@ struct WorldImpl {
   void park_patch(int i);
   /// Adds the stable-PD torques of every skeleton with joint gains to its forces (see world.cpp).
   void apply_stable_pd();
+  /// Appends the last DART step's contacts to the bodies' lists, forces scaled by `weight`.
+  void record_contacts(double weight);
 };
 
 /// Sets pose and velocity of a free-joint root (positions and body-frame velocities).
