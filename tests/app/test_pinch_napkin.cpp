@@ -17,10 +17,11 @@ TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
   ASSERT_EQ(pinched.size(), thumb.size());
   // From the handle's release (1.4 s) to the end the napkin hangs from the pads alone while the
   // wrist lifts it 15 cm and carries it 20 cm, turning 60°: the pinched vertex rises with the
-  // hand and stays within the pads' reach. A dropped napkin falls below where it was let go. The
-  // grip is a key pinch at the PD's weak squeeze and the outcome is chaotic (the scene path's
-  // spelling changes it): over 16 runs with the napkin shifted ≤ 0.3 mm and two path spellings,
-  // all carried it, the pinched vertex rose 8.9–14.1 cm and slid 13–62 mm from the pad centres.
+  // hand and stays between the pads. A dropped napkin falls below where it was let go. The
+  // outcome is chaotic (the scene path's spelling changes it): over 16 runs with the napkin
+  // shifted ≤ 0.3 mm and two path spellings, all carried it, the pinched vertex rose 14.7–15.0 cm
+  // and stayed within 5.9–8.3 mm of the pad centres (without rigid substeps: 8.9–14.1 cm and
+  // 13–62 mm, the thumb crossing the patch in single steps).
   double z_release = 0.0, farthest = 0.0;
   for (std::size_t k = 0; k < pinched.size(); ++k) {
     const double t = pinched[k][0].get<double>();
@@ -29,8 +30,8 @@ TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
       farthest = std::max(
           {farthest, probe_distance(pinched[k], thumb[k]), probe_distance(pinched[k], index[k])});
   }
-  EXPECT_LT(farthest, 0.09);
-  EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.06);
+  EXPECT_LT(farthest, 0.03);
+  EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.12);
   // No cloth–cloth or cloth–hand intersection at any recorded frame, no lost state.
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(s["nan"], false);
