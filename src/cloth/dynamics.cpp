@@ -272,9 +272,10 @@ void assemble_system(const ClothModel& model, const ClothState& state, double h,
 
 DynamicsReport solve_system(const ClothModel& model,
                             std::span<const VelocityConstraint> constraints,
-                            DynamicsWorkspace& ws) {
+                            DynamicsWorkspace& ws, double tolerance) {
   DynamicsReport report;
-  const SolverSettings& settings = model.solver;
+  SolverSettings settings = model.solver;
+  settings.tolerance = std::max(settings.tolerance, tolerance);
   if (settings.linear_solver == LinearSolver::ldlt) {
     report = solve_ldlt(model, ws);
     if (!report.ok) return report;
@@ -387,7 +388,15 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   double e_current = objective(ws.dv_iterate);
   DynamicsReport report;
   outcome.iterations = 0;
-  for (int it = 0; it < settings.max_iterations; ++it) {
+  // Far from the answer the Newton steps solve loosely (their direction only has to descend,
+  // and a PCG truncated from the iterate does); near it, to the solver's tolerance.
+  bool loose = true;
+  int accurate_solves = 0;
+  for (int it = 0; it <= settings.max_iterations; ++it) {
+    if (it == settings.max_iterations) {
+      if (!loose) break;
+      loose = false;  // the cap reached on loose solves: one accurate solve at the iterate
+    }
     // Friction's gradient and Hessian at the iterate: B/ε·T sticking, B/s·(T − ŵŵᵀ) sliding.
     ws.blocks = ws.base_blocks;
     ws.rhs = ws.base_rhs;
@@ -405,9 +414,10 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
     }
     eliminate_constraints(model, state, constraints, ws);
     ws.dv = ws.dv_iterate;  // warm start
-    report = solve_system(model, constraints, ws);
+    report = solve_system(model, constraints, ws, loose ? settings.newton_tolerance : 0.0);
     if (!report.ok) return report;
     ++outcome.iterations;
+    if (!loose) ++accurate_solves;
     // Backtracking line search on the objective (convex: the full step almost always decreases it).
     ws.dv_step = ws.dv - ws.dv_iterate;
     double alpha = 1.0, e_new = objective(ws.dv);
@@ -421,7 +431,10 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
       ws.dv_iterate = ws.dv;
       e_current = e_new;
     }
-    if (moved < settings.tolerance * eps || e_new > e_current) break;
+    // Converged: a step from an accurately solved iterate changed no velocity by tolerance·ε.
+    if (accurate_solves >= 2 && (moved < settings.tolerance * eps || e_new > e_current)) break;
+    // Near the answer (or stalled), the steps solve accurately.
+    if (moved < settings.accurate_below * eps || e_new > e_current) loose = false;
   }
   ws.dv = ws.dv_iterate;
 

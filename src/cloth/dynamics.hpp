@@ -35,6 +35,10 @@ struct FrictionSettings {
   double stick_velocity{1e-4};  ///< ε: slip speeds below it count as sticking [m/s], > 0
   int max_iterations{12};       ///< Newton iterations (each one linear solve), ≥ 1
   double tolerance{1.0};        ///< stop when no velocity changes by more than tolerance·ε
+  /// Relative residual of the linear solves of Newton steps far from the answer [-]; once a
+  /// step changes no velocity by more than accurate_below·ε, they solve to the model's tolerance.
+  double newton_tolerance{1e-3};
+  double accurate_below{100.0};
 };
 
 /// Outcome of the friction constraints of a solve, in their order.
