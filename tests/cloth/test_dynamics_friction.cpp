@@ -18,6 +18,29 @@ namespace {
 constexpr double kStep = 0.005;
 constexpr double kG = 9.81;
 
+/// A 5 cm × 30 cm strip of light cloth (3 × 16 vertices), to hang along −y.
+constexpr int kStripNx = 3, kStripNy = 16;
+ClothMesh strip_mesh() { return make_grid(0.05, 0.3, kStripNx, kStripNy); }
+Material strip_material() {
+  Material material;
+  material.density = 0.15;
+  material.youngs_modulus = 5e5;
+  material.thickness = 1e-3;
+  material.damping = 0.005;
+  return material;
+}
+
+/// The strip's top two rows pinched by a still jaw (normal z), `total` [N·s] of friction bound
+/// shared equally.
+std::vector<FrictionConstraint> pinch_top_rows(double total) {
+  std::vector<FrictionConstraint> friction;
+  for (int j = kStripNy - 2; j < kStripNy; ++j)
+    for (int i = 0; i < kStripNx; ++i)
+      friction.push_back({j * kStripNx + i, Vec3::UnitZ(), Vec3::Zero(),
+                          total / (2.0 * kStripNx)});
+  return friction;
+}
+
 }  // namespace
 
 TEST(DynamicsFriction, PartialConstraintPrescribesOnlyTheTangentialVelocity) {
@@ -84,22 +107,12 @@ TEST(DynamicsFriction, PinchedStripHeldIffTheBoundCoversItsWeight) {
   // Σ bounds = factor·W·h. Held (factor 1.5): after the load settles on the pinch the pinched
   // vertices stop, all stick, and the friction impulses carry the weight. Dropped (factor 0.8):
   // they slide at about (1 − 0.8)·g.
-  const int nx = 3, ny = 16;
-  const ClothMesh mesh = make_grid(0.05, 0.3, nx, ny);
-  Material material;
-  material.density = 0.15;
-  material.youngs_modulus = 5e5;
-  material.thickness = 1e-3;
-  material.damping = 0.005;
+  const ClothMesh mesh = strip_mesh();
   for (double factor : {1.5, 0.8}) {
-    ClothModel model = build_model(mesh, material);
+    ClothModel model = build_model(mesh, strip_material());
     ClothState state = make_state(model, mesh.x);
     const double weight = model.mass.sum() * kG;
-    std::vector<FrictionConstraint> friction;
-    for (int j = ny - 2; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) friction.push_back({j * nx + i, Vec3::UnitZ(), Vec3::Zero(), 0.0});
-    for (FrictionConstraint& f : friction)
-      f.max_impulse = factor * weight * kStep / static_cast<double>(friction.size());
+    const std::vector<FrictionConstraint> friction = pinch_top_rows(factor * weight * kStep);
     FrictionOutcome outcome;
     const auto pinched_mean_y = [&] {
       double y = 0.0;
@@ -136,23 +149,13 @@ TEST(DynamicsFriction, LooseNewtonStepsReachTheSameAnswer) {
   // Far from the answer the friction Newton steps solve loosely; the velocities reached must
   // be those of accurate steps throughout. A strip pinched at its top rows with a bound just
   // above its weight, swung sideways so its vertices change between sliding and sticking.
-  const int nx = 3, ny = 16;
-  const ClothMesh mesh = make_grid(0.05, 0.3, nx, ny);
-  Material material;
-  material.density = 0.15;
-  material.youngs_modulus = 5e5;
-  material.thickness = 1e-3;
-  material.damping = 0.005;
+  const ClothMesh mesh = strip_mesh();
   const auto run = [&](double newton_tolerance, double stop) {
-    ClothModel model = build_model(mesh, material);
+    ClothModel model = build_model(mesh, strip_material());
     model.solver.tolerance = 1e-9;
     ClothState state = make_state(model, mesh.x);
-    const double weight = model.mass.sum() * kG;
-    std::vector<FrictionConstraint> friction;
-    for (int j = ny - 2; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        friction.push_back({j * nx + i, Vec3::UnitZ(), Vec3::Zero(),
-                            1.1 * weight * kStep / (2.0 * nx)});
+    const std::vector<FrictionConstraint> friction =
+        pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
     FrictionSettings settings;
     settings.newton_tolerance = newton_tolerance;
     settings.tolerance = stop;

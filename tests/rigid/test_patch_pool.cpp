@@ -120,8 +120,9 @@ std::pair<double, double> push_onto_patch(int substeps, int steps) {
 
 TEST(PatchPool, SubstepsStopAFingerDrivenOntoAThinPatch) {
   // Contacts are found once per DART step: a light finger under a large force that starts a step
-  // off the patch moves h² F/m = 3.6 mm in it, through the 1 mm patch into the block. Four
-  // substeps find the patch after at most (h/4)² F/m ≈ 0.7 mm of free travel.
+  // off the patch moves h² a = 3.6 mm in it (a = F/m + g = 143 m/s²), through the 1 mm patch
+  // into the block. With four substeps (h_s² a = 0.22 mm) it has covered 0.22, 0.67 and 1.34 mm
+  // after the first three, so it is found at most one substep's travel (0.67 mm) deep in the patch.
   EXPECT_LT(push_onto_patch(1, 1).first, 0.0);
   const double bottom = push_onto_patch(4, 1).first;
   EXPECT_GT(bottom, 0.0005);
