@@ -33,11 +33,13 @@ struct FrictionConstraint {
 /// How the friction of a solve is solved.
 struct FrictionSettings {
   double stick_velocity{1e-4};  ///< ε: slip speeds below it count as sticking [m/s], > 0
-  int max_iterations{12};       ///< Newton iterations (each one linear solve), ≥ 1
+  /// Newton iterations (each one linear solve), ≥ 1; one more, accurate, when all were loose.
+  int max_iterations{12};
   double tolerance{1.0};        ///< stop when no velocity changes by more than tolerance·ε
-  /// Relative residual of the linear solves of Newton steps far from the answer [-]; once a
-  /// step changes no velocity by more than accurate_below·ε, they solve to the model's tolerance.
+  /// Relative residual of the linear solves of Newton steps far from the answer [-].
   double newton_tolerance{1e-3};
+  /// Once a step changes no velocity by more than accurate_below·ε (or the line search stalls),
+  /// the solves are to the model's tolerance, and convergence needs two of them.
   double accurate_below{100.0};
 };
 

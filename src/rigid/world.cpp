@@ -397,10 +397,12 @@ void RigidWorld::step() {
   for (auto& b : w.bodies) b.contacts.clear();
   w.num_contacts = 0;
   // The forces added for this step act over all its substeps (zero-order hold).
-  w.held_forces.resize(w.skeletons.size());
-  for (std::size_t s = 0; s < w.skeletons.size(); ++s)
-    w.held_forces[s] = w.skeletons[s].skel->getForces();
   const int substeps = w.options.substeps;
+  if (substeps > 1) {
+    w.held_forces.resize(w.skeletons.size());
+    for (std::size_t s = 0; s < w.skeletons.size(); ++s)
+      w.held_forces[s] = w.skeletons[s].skel->getForces();
+  }
   for (int k = 0; k < substeps; ++k) {
     if (k > 0)
       for (std::size_t s = 0; s < w.skeletons.size(); ++s)
