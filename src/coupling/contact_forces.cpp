@@ -65,7 +65,7 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
 namespace {
 
 /// Whether the group took a DART contact force (§4.1) rather than the repulsion force.
-bool takes_dart_force(const ContactGroup& g) { return g.rigid_patch >= 0 || g.rigid_contact >= 0; }
+bool takes_dart_force(const ContactGroup& g) { return g.rigid_patch >= 0; }
 
 /// Whether velocity `v` still closes on any of the surfaces of groups [first, end).
 bool closing(const std::vector<ContactGroup>& groups, std::size_t first, std::size_t end, const Vec3& v) {
@@ -117,6 +117,64 @@ void filter_normal_forces(int cloth_meshes, double h, WorldData& data) {
   }
 }
 
+/// Cloths stacked between two fingers (a patch pressed by two bodies): the squeeze passes
+/// through the middle layers, which touch no finger and would feel only their repulsion. Each
+/// contact of a middle-layer vertex (one in no patch) with a cloth vertex of the stack's patch
+/// takes the squeeze — the smaller of the two sides' resultants — shared among those vertices,
+/// when that is more than its repulsion; the group then names the patch (rigid_patch).
+void squeeze_middle_layers(int cloth_meshes, WorldData& data) {
+  InterfaceScratch& s = data.interface;
+  std::vector<ContactGroup>& groups = s.groups;
+  const std::size_t patches = s.patch_force.empty() ? 0 : s.patch_force.front().size();
+  s.squeeze.assign(patches, 0.0);
+  s.squeeze_takers.assign(patches, 0);
+  for (std::size_t p = 0; p < patches; ++p) {
+    double first = 0.0, second = 0.0;  // the two largest body resultants
+    for (const std::vector<double>& per_body : s.patch_force) {
+      const double f = per_body[p];
+      if (f > first) {
+        second = first;
+        first = f;
+      } else if (f > second) {
+        second = f;
+      }
+    }
+    s.squeeze[p] = second;
+  }
+  const auto stack_patch = [&](const ContactGroup& g) {
+    if (g.other_mesh >= cloth_meshes ||
+        s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)] >= 0)
+      return -1;
+    for (int j : g.other_vertices) {
+      if (j < 0) continue;
+      const int p = s.patch_of[static_cast<std::size_t>(g.other_mesh)][static_cast<std::size_t>(j)];
+      if (p >= 0 && s.squeeze[static_cast<std::size_t>(p)] > 0.0) return p;
+    }
+    return -1;
+  };
+  for (std::size_t g = 0; g < groups.size();) {
+    const std::size_t end = vertex_end(groups, g);
+    int counted = -1;  // each vertex counts once per patch
+    for (std::size_t k = g; k < end; ++k) {
+      const int p = stack_patch(groups[k]);
+      if (p >= 0 && p != counted) {
+        ++s.squeeze_takers[static_cast<std::size_t>(p)];
+        counted = p;
+      }
+    }
+    g = end;
+  }
+  for (ContactGroup& g : groups) {
+    const int p = stack_patch(g);
+    if (p < 0) continue;
+    const auto pu = static_cast<std::size_t>(p);
+    const double share = s.squeeze[pu] / s.squeeze_takers[pu];
+    if (share <= g.normal_force) continue;
+    g.normal_force = share;
+    g.rigid_patch = p;
+  }
+}
+
 }  // namespace
 
 void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data) {
@@ -139,68 +197,63 @@ void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& d
   const int placed = std::min(pool.capacity(), static_cast<int>(data.patches.size()));
   for (int p = 0; p < placed; ++p) {
     const RigidPatch& patch = data.patches[static_cast<std::size_t>(p)];
-    if (!pool.active(p) || patch.cloth < 0 || patch.cloth >= cloth_meshes) continue;
-    for (int i : patch.vertices) s.patch_of[static_cast<std::size_t>(patch.cloth)][static_cast<std::size_t>(i)] = p;
+    if (!pool.active(p) || patch.cloths.size() != patch.vertices.size()) continue;
+    for (std::size_t k = 0; k < patch.vertices.size(); ++k)
+      s.patch_of[static_cast<std::size_t>(patch.cloths[k])]
+                [static_cast<std::size_t>(patch.vertices[k])] = p;
   }
-  // Per body mesh: the resultant normal force of its contacts with each patch, and per contact.
-  s.takers.resize(rigid.meshes.size());
+  // Per body mesh: the resultant normal force of its contacts with each patch.
   s.patch_force.resize(rigid.meshes.size());
   s.patch_takers.resize(rigid.meshes.size());
   for (std::size_t m = 0; m < rigid.meshes.size(); ++m) {
-    const auto& contacts = rigid.world->contacts(rigid.mesh_body[m]);
-    s.takers[m].assign(contacts.size(), 0);
     s.patch_force[m].assign(static_cast<std::size_t>(pool.capacity()), 0.0);
     s.patch_takers[m].assign(static_cast<std::size_t>(pool.capacity()), 0);
-    for (const rigid::ContactPoint& c : contacts) {
+    for (const rigid::ContactPoint& c : rigid.world->contacts(rigid.mesh_body[m])) {
       const int p = patch_index(c.other);
       if (p >= 0) s.patch_force[m][static_cast<std::size_t>(p)] += c.f_n;
     }
   }
+  // Each group takes the force of the patch its body presses there: the vertex's own patch when
+  // the body presses it, else the patch of the body's nearest contact point with a patch.
   for (ContactGroup& g : groups) {
     const int m = g.other_mesh - cloth_meshes;
     if (m < 0) continue;
     const auto mi = static_cast<std::size_t>(m);
-    // The vertex's own patch pressed on this body: share that contact's resultant.
-    const int p = s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)];
-    if (p >= 0 && s.patch_force[mi][static_cast<std::size_t>(p)] > 0.0) {
-      g.rigid_patch = p;
-      ++s.patch_takers[mi][static_cast<std::size_t>(p)];
-      continue;
-    }
-    // Otherwise the nearest contact point between this body and any patch.
-    const auto& contacts = rigid.world->contacts(rigid.mesh_body[mi]);
-    const Vec3 x = data.meshes[static_cast<std::size_t>(g.cloth)].x0.row(g.vertex).transpose();
-    double best = reach;
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-      const double d = (contacts[c].p_W - x).norm();
-      if (d < best && contacts[c].f_n > 0.0 && patch_index(contacts[c].other) >= 0) {
-        best = d;
-        g.rigid_contact = static_cast<int>(c);
+    int p = s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)];
+    if (p < 0 || s.patch_force[mi][static_cast<std::size_t>(p)] <= 0.0) {
+      p = -1;
+      const Vec3 x = data.meshes[static_cast<std::size_t>(g.cloth)].x0.row(g.vertex).transpose();
+      double best = reach;
+      for (const rigid::ContactPoint& c : rigid.world->contacts(rigid.mesh_body[mi])) {
+        const double d = (c.p_W - x).norm();
+        const int q = patch_index(c.other);
+        if (d < best && c.f_n > 0.0 && q >= 0) {
+          best = d;
+          p = q;
+        }
       }
     }
-    if (g.rigid_contact >= 0) ++s.takers[mi][static_cast<std::size_t>(g.rigid_contact)];
+    if (p < 0) continue;
+    g.rigid_patch = p;
+    ++s.patch_takers[mi][static_cast<std::size_t>(p)];
   }
-  // Each contact's (or patch contact's) normal force is shared among the vertices that took it.
-  // The force acts along DART's contact normal, so that normal (turned toward the vertex) is the
-  // group's: the friction plane is the one orthogonal to fN. The proximity records' normals tilt
-  // near mesh edges and would give the two jaws of a pinch non-parallel planes.
+  // Each body's resultant on a patch is shared among the vertices that took it (the paper's
+  // per-contact rule, summed per patch: every vertex near the patch takes one share, and the
+  // shares add up to the force the body exerts). The force acts along DART's contact normal,
+  // so that normal (turned toward the vertex) is the group's: the friction plane is the one
+  // orthogonal to fN. The proximity records' normals tilt near mesh edges and would give the
+  // two jaws of a pinch non-parallel planes.
   for (ContactGroup& g : groups) {
-    if (g.other_mesh < cloth_meshes) continue;  // cloth–cloth: the repulsion force stays
+    if (g.other_mesh < cloth_meshes || g.rigid_patch < 0) continue;  // cloth–cloth: repulsion
     const auto m = static_cast<std::size_t>(g.other_mesh - cloth_meshes);
-    const auto& contacts = rigid.world->contacts(rigid.mesh_body[m]);
+    const auto p = static_cast<std::size_t>(g.rigid_patch);
+    g.normal_force = s.patch_force[m][p] / s.patch_takers[m][p];
     Vec3 n = Vec3::Zero();
-    if (g.rigid_patch >= 0) {
-      const auto p = static_cast<std::size_t>(g.rigid_patch);
-      g.normal_force = s.patch_force[m][p] / s.patch_takers[m][p];
-      for (const rigid::ContactPoint& c : contacts)
-        if (patch_index(c.other) == g.rigid_patch) n += c.f_n * c.n_W;
-    } else if (g.rigid_contact >= 0) {
-      const auto c = static_cast<std::size_t>(g.rigid_contact);
-      g.normal_force = contacts[c].f_n / s.takers[m][c];
-      n = contacts[c].n_W;
-    }
+    for (const rigid::ContactPoint& c : rigid.world->contacts(rigid.mesh_body[m]))
+      if (patch_index(c.other) == g.rigid_patch) n += c.f_n * c.n_W;
     if (n.norm() > 0.0) g.normal = n.dot(g.normal) >= 0.0 ? Vec3(n.normalized()) : Vec3(-n.normalized());
   }
+  squeeze_middle_layers(cloth_meshes, data);
   filter_normal_forces(cloth_meshes, h, data);
 }
 
@@ -211,7 +264,10 @@ std::optional<cloth::FrictionConstraint> grip_constraint(
   // friction is dropped for the step: the grip dominates it). A pinched corner folds onto
   // itself within the repulsion thickness, and left to the per-vertex NCP after the solve it
   // crept out of the fingers (10–28 mm in a hand's key pinch).
-  const auto body = [&](const ContactGroup& g) { return g.other_mesh >= cloth_meshes; };
+  // Bodies grip; so do the neighbouring cloths of a middle layer squeezed in a stack.
+  const auto body = [&](const ContactGroup& g) {
+    return g.other_mesh >= cloth_meshes || g.rigid_patch >= 0;
+  };
   const auto first = std::find_if(groups.begin(), groups.end(), body);
   if (first == groups.end()) return std::nullopt;
   const Vec3 n0 = first->normal;
@@ -230,25 +286,62 @@ std::optional<cloth::FrictionConstraint> grip_constraint(
   return cloth::FrictionConstraint{first->vertex, n0, u / weight, bound};
 }
 
+void stack_reactions(int cloth_meshes, double h, WorldData& data) {
+  InterfaceScratch& s = data.interface;
+  s.reaction.resize(static_cast<std::size_t>(cloth_meshes));
+  for (int c = 0; c < cloth_meshes; ++c)
+    s.reaction[static_cast<std::size_t>(c)].setZero(
+        data.meshes[static_cast<std::size_t>(c)].x0.rows(), 3);
+  const std::vector<ContactGroup>& groups = s.groups;
+  for (std::size_t c = 0; c < s.friction.size() && c < s.friction_outcome.size(); ++c) {
+    const cloth::FrictionOutcome& outcome = s.friction_outcome[c];
+    for (std::size_t k = 0; k < s.friction[c].size() && k < outcome.impulse.size(); ++k) {
+      const auto [first, end] = s.friction_groups[c][k];
+      // The constraint's impulse splits among its gripping surfaces as their normal forces.
+      double total = 0.0;
+      bool layered = false;
+      for (int g = first; g < end; ++g) {
+        const ContactGroup& cg = groups[static_cast<std::size_t>(g)];
+        if (cg.other_mesh >= cloth_meshes || cg.rigid_patch >= 0) total += cg.normal_force;
+        layered = layered || (cg.other_mesh < cloth_meshes && cg.rigid_patch >= 0);
+      }
+      if (!layered || !(total > 0.0)) continue;
+      for (int g = first; g < end; ++g) {
+        const ContactGroup& cg = groups[static_cast<std::size_t>(g)];
+        if (cg.other_mesh >= cloth_meshes || cg.rigid_patch < 0) continue;
+        const Vec3 force = -(cg.normal_force / total) * outcome.impulse[k] / h;
+        Points& r = s.reaction[static_cast<std::size_t>(cg.other_mesh)];
+        for (std::size_t j = 0; j < 3; ++j)
+          if (cg.other_vertices[j] >= 0)
+            r.row(cg.other_vertices[j]) +=
+                cg.other_weights[static_cast<Eigen::Index>(j)] * force.transpose();
+      }
+    }
+  }
+}
+
 void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data) {
   const double coplanar_sin = std::sin(coplanar_deg * M_PI / 180.0);
   InterfaceScratch& s = data.interface;
   const auto nc = static_cast<std::size_t>(cloth_meshes);
   s.friction.resize(nc);
+  s.friction_groups.resize(nc);
   s.friction_outcome.resize(nc);
   for (auto& list : s.friction) list.clear();
+  for (auto& list : s.friction_groups) list.clear();
   const std::vector<ContactGroup>& groups = s.groups;
   // The touched surface's velocity now, at the group's heaviest record (one std::function for
   // the whole loop, not one per vertex).
   const std::function<GripSurface(const ContactGroup&)> surface = [&](const ContactGroup& cg) {
-    const auto m = static_cast<std::size_t>(cg.other_mesh - cloth_meshes);
     GripSurface out;
-    out.actuated = data.rigid.mesh_actuated[m];
-    const rigid::ObstacleMesh& body = data.rigid.meshes[m];
+    const bool cloth = cg.other_mesh < cloth_meshes;  // a squeezed stack's neighbouring layer
+    const auto m = static_cast<std::size_t>(cg.other_mesh - (cloth ? 0 : cloth_meshes));
+    out.actuated = cloth || data.rigid.mesh_actuated[m];
+    const Points& v = cloth ? data.cloths[m].v : data.rigid.meshes[m].v;
     for (std::size_t j = 0; j < 3; ++j)
       if (cg.other_vertices[j] >= 0)
         out.velocity += cg.other_weights[static_cast<Eigen::Index>(j)] *
-                        body.v.row(cg.other_vertices[j]).transpose();
+                        v.row(cg.other_vertices[j]).transpose();
     out.mu = collision::pair_friction(data.meshes[static_cast<std::size_t>(cg.cloth)],
                                       data.meshes[static_cast<std::size_t>(cg.other_mesh)]);
     return out;
@@ -257,8 +350,11 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
   while (g < groups.size()) {
     const std::size_t end = vertex_end(groups, g);
     const std::span<const ContactGroup> run(groups.data() + g, end - g);
-    if (auto c = grip_constraint(run, cloth_meshes, coplanar_sin, h, surface))
+    if (auto c = grip_constraint(run, cloth_meshes, coplanar_sin, h, surface)) {
       s.friction[static_cast<std::size_t>(groups[g].cloth)].push_back(*c);
+      s.friction_groups[static_cast<std::size_t>(groups[g].cloth)].emplace_back(
+          static_cast<int>(g), static_cast<int>(end));
+    }
     g = end;
   }
 }

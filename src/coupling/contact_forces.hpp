@@ -16,14 +16,16 @@ namespace dexcloth::coupling {
 /// Fills data.interface.groups.
 void group_contacts(int cloth_meshes, double h, WorldData& data);
 
-/// Paper §4.1: a vertex touching a DART body takes the normal force of the nearest contact point
-/// between that body and a rigid cloth patch, shared among all vertices that took the same point;
-/// other groups keep the cloth simulator's repulsion force. Contacts farther than `reach` [m]
-/// from the vertex are not taken. A vertex of a patch pressed on that body takes the patch
-/// contact's resultant (the sum over DART's manifold points, whose split among the points is
-/// not determined by the LCP), shared among the patch's vertices touching the body. The group
-/// normal becomes DART's contact normal, the direction of fN. Each vertex's DART force is
-/// low-passed (time constant 50 ms; step `h` [s]) while the vertex stays in contact.
+/// Paper §4.1: a vertex touching a DART body takes the normal force that body exerts on a rigid
+/// cloth patch — its own patch when the body presses it, else the patch of the body's nearest
+/// contact point (within `reach` [m]) — and each body's resultant on a patch (the sum over
+/// DART's manifold points, whose split among the points the LCP does not determine) is shared
+/// among all vertices that took it: the paper's per-contact rule summed per patch, so the shares
+/// add up to the body's force. Other groups keep the cloth simulator's repulsion force, except
+/// the middle layers of cloths stacked between two bodies, which take the squeeze through the
+/// stack. The group normal becomes DART's contact normal, the direction of fN. Each vertex's
+/// DART force is low-passed (time constant 50 ms; step `h` [s]) while the vertex stays in
+/// contact.
 void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& data);
 
 /// A body surface a cloth vertex touches, as the implicit friction sees it.
@@ -37,14 +39,23 @@ struct GripSurface {
 /// `cloth_meshes` cloth meshes first), or none. A vertex whose contacts with bodies are all with
 /// actuated ones, have a surface record, and are coplanar (|n_i × n_0| ≤ coplanar_sin) gets its
 /// first body contact's normal, the fN-weighted surface velocity, and the bound Σ μ·fN·h; its
-/// contacts with cloth give no friction in that step (the grip dominates). `surface` reads a
-/// body group's surface.
+/// contacts with cloth give no friction in that step (the grip dominates). The contacts of a
+/// middle layer of a squeezed stack with the cloths around it (cloth groups with a rigid_patch,
+/// see assign_normal_forces) grip as bodies do. `surface` reads a gripping group's surface.
 std::optional<cloth::FrictionConstraint> grip_constraint(
     std::span<const ContactGroup> groups, int cloth_meshes, double coplanar_sin, double h,
     const std::function<GripSurface(const ContactGroup&)>& surface);
 
 /// Friction of the vertices held by hands and grippers, for the next implicit step: the
 /// grip_constraint of each vertex of the last step's groups, with coplanar_deg in degrees.
+/// The reactions of the implicit friction of middle layers of stacks on the cloths around them
+/// (Newton's third law): each constraint's impulse, split among its gripping surfaces by their
+/// normal forces, acts with opposite sign on the touched cloth's vertices (the record's
+/// barycentric weights) as a force over the next step, into data.interface.reaction. Without
+/// it the outer layers would not carry the middle ones, and a stack between two fingers would
+/// hold at a third of its weight too little.
+void stack_reactions(int cloth_meshes, double h, WorldData& data);
+
 /// Fills data.interface.friction per cloth. The first step of a contact, and vertices touching
 /// props (tables, obstacles) or only cloth, go through apply_friction: the friction of a resting
 /// or sliding cloth needs no load transfer through the solve, and each friction vertex costs

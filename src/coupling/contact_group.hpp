@@ -3,10 +3,10 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cloth/dynamics.hpp"
-
 #include "core/types.hpp"
 
 namespace dexcloth::coupling {
@@ -21,7 +21,6 @@ struct ContactGroup {
   Vec3 other_velocity{Vec3::Zero()}; ///< velocity of the touching surface [m/s]
   double repulsion_force{};          ///< repulsion impulse / h [N]
   double normal_force{};             ///< fN used for friction [N]
-  int rigid_contact{-1};             ///< DART contact taken (index into that body's contacts), or -1
   int rigid_patch{-1};               ///< pool patch whose contact resultant is shared, or -1
   /// The other side's vertices and weights of the group's heaviest record, to read the surface's
   /// velocity again at the next step.
@@ -45,13 +44,17 @@ struct InterfaceScratch {
   std::vector<ContactGroup> groups;
   std::vector<int> order;
   std::vector<double> weight;
-  std::vector<std::vector<int>> takers;  ///< per rigid mesh, per DART contact: vertices taking it
   std::vector<std::vector<int>> patch_of;  ///< per cloth, per vertex: pool patch holding it, or −1
   std::vector<std::vector<double>> patch_force;  ///< per rigid mesh, per pool patch: Σ f_n [N]
   std::vector<std::vector<int>> patch_takers;    ///< per rigid mesh, per pool patch: vertices
+  std::vector<double> squeeze;      ///< per pool patch: force through a stack of cloths [N]
+  std::vector<int> squeeze_takers;  ///< per pool patch: middle-layer vertices sharing it
   // Friction of vertices already in contact, solved inside the next implicit step, per cloth.
   std::vector<std::vector<cloth::FrictionConstraint>> friction;
+  std::vector<std::vector<std::pair<int, int>>>
+      friction_groups;  ///< each one's groups [first, end)
   std::vector<cloth::FrictionOutcome> friction_outcome;
+  std::vector<Points> reaction;  ///< per cloth: forces of stacked layers' friction [N], next step
   /// Per cloth, per vertex: 0 not in the implicit friction, 1 stuck, 2 sliding (last step).
   std::vector<std::vector<std::uint8_t>> friction_state;
   std::vector<std::vector<double>> force_filtered;  ///< per cloth, per vertex: filtered DART fN [N]

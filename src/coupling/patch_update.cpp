@@ -53,6 +53,25 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const Wo
   }
 }
 
+/// The cloth layers of a cluster between two fingers: the cloths it holds vertices of, and the
+/// cloths those vertices touch that have none in it (the middle layers of cloths stacked
+/// between two fingers, which touch no finger).
+int cloth_layers(const std::vector<int>& cluster, int cloth_meshes, const WorldData& data) {
+  std::vector<char> held(static_cast<std::size_t>(cloth_meshes), 0), touched = held;
+  const std::vector<ContactGroup>& groups = data.interface.groups;
+  for (int k : cluster) {
+    held[static_cast<std::size_t>(data.patch_vertex_ids[static_cast<std::size_t>(k)].first)] = 1;
+    const auto [first, end] = data.patch_vertex_groups[static_cast<std::size_t>(k)];
+    for (int g = first; g < end; ++g)
+      if (groups[static_cast<std::size_t>(g)].other_mesh < cloth_meshes)
+        touched[static_cast<std::size_t>(groups[static_cast<std::size_t>(g)].other_mesh)] = 1;
+  }
+  int n = 0;
+  for (int c = 0; c < cloth_meshes; ++c)
+    n += held[static_cast<std::size_t>(c)] || touched[static_cast<std::size_t>(c)];
+  return n;
+}
+
 }  // namespace
 
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
@@ -71,30 +90,33 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
   const double pinched_thickness =
       2.0 * model.thickness + 2.0 * (allowance - kPinchMargin * model.thickness);
   int placed = 0;
+  // Vertices of every cloth touching an actuated rigid body, once each, with the run of their
+  // contact groups (the groups of one vertex are consecutive). All cloths are clustered
+  // together: layers of different cloths between two fingers make one stack, as the layers of
+  // a fold of one cloth do.
+  data.patch_vertex_ids.clear();
+  data.patch_vertex_groups.clear();
+  data.patch_vertices.clear();
+  const auto actuated = [&](const ContactGroup& g) {
+    const int m = g.other_mesh - cloth_meshes;
+    return m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)];
+  };
   for (int c = 0; c < cloth_meshes; ++c) {
     const collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(c)];
-    // Vertices of this cloth touching an actuated rigid body, once each, with the run of their
-    // contact groups (the groups of one vertex are consecutive).
-    data.patch_vertex_ids.clear();
-    data.patch_vertex_groups.clear();
-    const auto actuated = [&](const ContactGroup& g) {
-      const int m = g.other_mesh - cloth_meshes;
-      return m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)];
-    };
+    const std::size_t first_of_cloth = data.patch_vertex_ids.size();
     for (std::size_t first = 0, end = 0; first < groups.size(); first = end) {
       end = vertex_end(groups, first);
       const auto run = groups.begin() + static_cast<std::ptrdiff_t>(first);
       if (groups[first].cloth != c ||
           std::none_of(run, groups.begin() + static_cast<std::ptrdiff_t>(end), actuated))
         continue;
-      data.patch_vertex_ids.push_back(groups[first].vertex);
+      data.patch_vertex_ids.emplace_back(c, groups[first].vertex);
       data.patch_vertex_groups.emplace_back(static_cast<int>(first), static_cast<int>(end));
     }
-    if (data.patch_vertex_ids.empty()) continue;
+    if (data.patch_vertex_ids.size() == first_of_cloth) continue;
     vertex_normals(mesh.faces, mesh.x1, data.normals);
-    data.patch_vertices.clear();
-    for (std::size_t k = 0; k < data.patch_vertex_ids.size(); ++k) {
-      const int i = data.patch_vertex_ids[k];
+    for (std::size_t k = first_of_cloth; k < data.patch_vertex_ids.size(); ++k) {
+      const int i = data.patch_vertex_ids[k].second;
       const auto [first, end] = data.patch_vertex_groups[k];
       const std::span<const ContactGroup> touching(groups.data() + first, groups.data() + end);
       const Vec3 n = clustering_normal(data.normals.row(i).transpose(), touching, cloth_meshes);
@@ -102,10 +124,13 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
                                      (mesh.x1.row(i) - mesh.x0.row(i)).transpose() / h, n,
                                      mesh.mass[i]});
     }
+  }
+  if (!data.patch_vertex_ids.empty()) {
     // Cluster (eqs. 9–11, on the touched surfaces' normals) and fit one thin box per cluster.
     auto clusters = cluster_vertices(data.patch_vertices, model.clusters);
-    // A fold (or layers) of this cloth squeezed between two fingers clusters into one layer per
-    // finger, each a free patch its finger pushes aside: join facing layers into one stack.
+    // A fold of a cloth, or layers of cloths, squeezed between two fingers clusters into one
+    // layer per finger, each a free patch its finger pushes aside: join facing layers into one
+    // stack.
     std::vector<std::vector<SurfaceTouch>>& touches = data.cluster_touches;
     touches.resize(clusters.size());
     for (std::size_t k = 0; k < clusters.size(); ++k)
@@ -121,11 +146,19 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
       const std::vector<int>& cluster = clusters[k];
       RigidPatch patch = build_patch(data.patch_vertices, cluster, 2.0 * model.thickness,
                                      2.0 * model.thickness);
-      // n layers between two fingers keep n + 1 repulsion thicknesses between them.
-      centre_between_surfaces(patch, touches[k],
-                              pinched_thickness + (layers[k] - 1) * model.thickness);
-      for (int& v : patch.vertices) v = data.patch_vertex_ids[static_cast<std::size_t>(v)];
-      patch.cloth = c;
+      // n layers between two fingers keep n + 1 repulsion thicknesses between them: the cloths
+      // of a stack, those between its outer layers that touch no finger included (whether the
+      // outer layers clustered apart or together), or the layers of a fold of one cloth.
+      const int cloths = cloth_layers(cluster, cloth_meshes, data);
+      const int n = cloths > 1 ? cloths : layers[k];
+      centre_between_surfaces(patch, touches[k], pinched_thickness + (n - 1) * model.thickness);
+      patch.cloths.clear();
+      for (int& v : patch.vertices) {
+        const auto [c, i] = data.patch_vertex_ids[static_cast<std::size_t>(v)];
+        patch.cloths.push_back(c);
+        v = i;
+      }
+      patch.cloth = *std::min_element(patch.cloths.begin(), patch.cloths.end());
       data.patches.push_back(std::move(patch));
     }
   }

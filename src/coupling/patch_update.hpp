@@ -13,7 +13,10 @@ namespace dexcloth::coupling {
 /// repulsion thickness thick (the cloth with its two repulsion layers); one whose cloth touches
 /// bodies on both sides (a pinch) is centred between them and made thicker by DART's contact
 /// allowance on each side, less 1 % of the thickness, so the bodies rest just inside the
-/// repulsion layers. Returns the number of active patches.
+/// repulsion layers. The vertices of all cloths are clustered together, so cloths stacked
+/// between two fingers make one patch, as thick as n + 1 repulsion thicknesses for its n cloth
+/// layers (those it holds and those they touch, the middle layers that touch no finger); its
+/// vertices carry their cloth (RigidPatch::cloths). Returns the number of active patches.
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data);
 
 /// The normal a cloth vertex is clustered by (δn, δd of eqs. 10–11): the mean of the normals of

@@ -220,6 +220,8 @@ double median(std::vector<double>& values) {
 
 /// Surfaces within this angle of the patch normal carry its faces [deg].
 constexpr double kFacingDeg = 20.0;
+/// Share of a cluster's touches that must face one way for it to count as pressed from one side.
+constexpr double kOneSidedShare = 0.8;
 
 /// Offsets along `n` (from `center`) of the surfaces facing a patch of normal n from above
 /// (normal within kFacingDeg of −n) and from below (within kFacingDeg of +n), and their normals
@@ -283,17 +285,22 @@ std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
   for (int c = 0; c < n; ++c) {
     const auto& t = touches[static_cast<std::size_t>(c)];
     if (t.empty()) continue;
-    Vec3 p = Vec3::Zero(), m = Vec3::Zero();
-    for (const SurfaceTouch& s : t) {
-      p += s.point;
-      m += s.normal;
-    }
+    Vec3 m = Vec3::Zero();
+    for (const SurfaceTouch& s : t) m += s.normal;
     if (m.norm() == 0.0) continue;
     m.normalize();
-    bool same_side = true;
-    for (const SurfaceTouch& s : t) same_side = same_side && s.normal.dot(m) >= min_cosine;
-    one_sided[static_cast<std::size_t>(c)] = same_side;
-    point[static_cast<std::size_t>(c)] = p / static_cast<double>(t.size());
+    // Pressed from one side: nearly all its touches face along m (a vertex or two at the edge
+    // of the cloth curls round the finger's edge); its point is the mean of those.
+    Vec3 q = Vec3::Zero();
+    int along = 0;
+    for (const SurfaceTouch& s : t)
+      if (s.normal.dot(m) >= min_cosine) {
+        q += s.point;
+        ++along;
+      }
+    one_sided[static_cast<std::size_t>(c)] =
+        along >= kOneSidedShare * static_cast<double>(t.size());
+    point[static_cast<std::size_t>(c)] = q / std::max(1, along);
     normal[static_cast<std::size_t>(c)] = m;
   }
   const auto facing = [&](int a, int b) {

@@ -32,7 +32,8 @@ struct RigidPatch {
   Vec3 linear_velocity{Vec3::Zero()};   ///< velocity of the box centre [m/s]
   Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
   std::vector<int> vertices;       ///< indices into the builder's input (cloth vertices once placed)
-  int cloth{-1};                   ///< cloth mesh the vertices belong to, once placed
+  std::vector<int> cloths;         ///< cloth mesh of each vertex, once placed
+  int cloth{-1};                   ///< its rigid layer once placed: the lowest of `cloths`
 };
 
 /// Groups vertices into clusters: i and j are joined (transitively) when all three paper
@@ -68,11 +69,12 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 
 /// Joins clusters of one cloth that are pressed from opposite sides into one stack (a fold or
 /// several layers of cloth between two fingers). `touches[c]` are the rigid surfaces touching
-/// cluster c. A cluster touched from one side only (all its surface normals within 20° of their
-/// mean m) joins another one-sided cluster whose mean normal is within 20° of −m when each
-/// faces the other: the other's mean surface point lies ahead along m by at most `max_gap` [m]
-/// and within `max_lateral` [m] of its own across m. Each cluster is pressed by one finger
-/// only, so each patch alone would be a free light box the finger pushes aside; as one patch
+/// cluster c. A cluster touched from one side only (at least 80 % of its surface normals within
+/// 20° of their mean m: a vertex or two at the cloth's edge may curl round the finger) joins
+/// another one-sided cluster whose mean normal is within 20° of −m when each faces the other: the
+/// other's mean surface point (over its touches along its m) lies ahead along m by at most
+/// `max_gap` [m] and within `max_lateral` [m] of its own across m. Each cluster is pressed by one
+/// finger only, so each patch alone would be a free light box the finger pushes aside; as one patch
 /// the stack is squeezed between both. Returns, per resulting cluster, the number of clusters
 /// (layers) it joins; `clusters` and `touches` are rewritten alike (a joined cluster's members
 /// sorted, its touches concatenated), in order of each stack's first cluster.

@@ -67,6 +67,11 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
     const ClothBody& body = model.cloths[c];
     cloth::ClothState& state = data.cloths[c];
     handle_constraints(body, state, data.time + model.dt, model.dt, data.scratch_constraints);
+    // The last step's friction reactions of stacked cloths on this one.
+    if (bai_liu && c < s.reaction.size() && s.reaction[c].rows() == state.f_ext.rows())
+      state.f_ext = s.reaction[c];
+    else
+      state.f_ext.setZero();
     std::vector<std::uint8_t>& solved = s.friction_state[c];
     solved.assign(static_cast<std::size_t>(state.x.rows()), 0);
     cloth::DynamicsReport report;
@@ -86,6 +91,7 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
     }
     if (!report.ok) data.warnings.add(data.step, body.name + ": " + report.message);
   }
+  if (bai_liu) stack_reactions(static_cast<int>(model.cloths.size()), model.dt, data);
   return friction_seconds;
 }
 

@@ -105,7 +105,7 @@ struct WorldData {
   InterfaceScratch interface;
   std::vector<RigidPatch> patches;
   std::vector<PatchVertex> patch_vertices;
-  std::vector<int> patch_vertex_ids;   ///< cloth vertex of each patch vertex (one cloth at a time)
+  std::vector<std::pair<int, int>> patch_vertex_ids;     ///< (cloth, vertex) of each patch vertex
   std::vector<std::pair<int, int>> patch_vertex_groups;  ///< its contact groups [first, end)
   std::vector<std::vector<SurfaceTouch>> cluster_touches;  ///< rigid surfaces touching each
                                                           ///< cluster's cloth
