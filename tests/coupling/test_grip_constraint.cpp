@@ -25,8 +25,11 @@ ContactGroup group(int mesh, const Vec3& n, double fn) {
   return g;
 }
 
-/// Fingers move at (0.1, 0, 0) and (0.3, 0, 0) m/s with μ 0.5; the table is still, μ 0.4.
+/// Fingers move at (0.1, 0, 0) and (0.3, 0, 0) m/s with μ 0.5; the table is still, μ 0.4;
+/// cloth 0 moves at (0, 0.2, 0) and cloth 1 at (0, 0.4, 0) m/s, μ 0.5.
 GripSurface surface(const ContactGroup& g) {
+  if (g.other_mesh == 0) return {true, Vec3(0, 0.2, 0), 0.5};
+  if (g.other_mesh == 1) return {true, Vec3(0, 0.4, 0), 0.5};
   if (g.other_mesh == 2) return {true, Vec3(0.1, 0, 0), 0.5};
   if (g.other_mesh == 3) return {true, Vec3(0.3, 0, 0), 0.5};
   return {false, Vec3::Zero(), 0.4};
@@ -68,4 +71,17 @@ TEST(GripConstraint, VerticesNotHeldByAHandAloneAreLeftToThePerVertexProblem) {
   // Planes 1° apart are one plane.
   const Vec3 close(std::sin(1.0 * M_PI / 180.0), 0, -std::cos(1.0 * M_PI / 180.0));
   EXPECT_TRUE(grip({group(2, Vec3::UnitZ(), 1.0), group(3, close, 1.0)}).has_value());
+}
+
+TEST(GripConstraint, AMiddleLayerSqueezedInAStackIsHeldByTheClothsBesideIt) {
+  // A vertex between cloths 0 and 1 (0.1 N and 0.3 N of squeeze, marked by the stack's patch)
+  // grips them as a pinched vertex grips two fingers; with their repulsion force only (no patch)
+  // it is left to the per-vertex problem.
+  ContactGroup below = group(0, Vec3::UnitZ(), 0.1), above = group(1, -Vec3::UnitZ(), 0.3);
+  EXPECT_FALSE(grip({below, above}).has_value());
+  below.rigid_patch = above.rigid_patch = 4;
+  const auto c = grip({below, above});
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->max_impulse, 0.5 * (0.1 + 0.3) * 0.005, 1e-15);
+  EXPECT_NEAR((c->surface_velocity - Vec3(0, 0.35, 0)).norm(), 0.0, 1e-15);  // fN-weighted
 }
