@@ -4,6 +4,7 @@
 ///   BM_Coupled/gripper_pinch  scenes/gripper_pinch.json from 1.2 s (strip held, gripper still).
 ///   BM_Coupled/pinch_napkin   scenes/pinch_napkin.json from 2.2 s (the hand carrying the napkin).
 ///   BM_Coupled/pinch_move     scenes/pinch_move.json from 2.2 s (the hand carrying a 0.3 m sheet).
+///   BM_Coupled/gripper_layers scenes/gripper_layers.json from 1.8 s (three strips held, still).
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
 /// triangles. Run (Release):
@@ -59,6 +60,9 @@ BENCHMARK_CAPTURE(BM_Coupled, gripper_pinch, std::string("gripper_pinch"), 1.2)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_napkin, std::string("pinch_napkin"), 2.2)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(100);
+BENCHMARK_CAPTURE(BM_Coupled, gripper_layers, std::string("gripper_layers"), 1.8)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_move, std::string("pinch_move"), 2.2)
