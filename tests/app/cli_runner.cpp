@@ -57,4 +57,21 @@ double probe_distance(const nlohmann::json& a, const nlohmann::json& b) {
   return std::sqrt(sum);
 }
 
+double relative_motion(const nlohmann::json& s, const std::string& moving,
+                       const std::string& reference, double t0, double t1) {
+  const auto& a = s["probes"][moving];
+  const auto& b = s["probes"][reference];
+  const auto offset = [&](double t) {
+    std::size_t k = 0;
+    while (k + 1 < a.size() && a[k][0].get<double>() < t - 1e-9) ++k;
+    std::array<double, 3> d{};
+    for (int i = 0; i < 3; ++i)
+      d[static_cast<std::size_t>(i)] = a[k][i + 1].get<double>() - b[k][i + 1].get<double>();
+    return d;
+  };
+  const auto d0 = offset(t0), d1 = offset(t1);
+  return std::sqrt((d1[0] - d0[0]) * (d1[0] - d0[0]) + (d1[1] - d0[1]) * (d1[1] - d0[1]) +
+                   (d1[2] - d0[2]) * (d1[2] - d0[2]));
+}
+
 }  // namespace dexcloth::test

@@ -31,4 +31,9 @@ nlohmann::json run_scene(const std::string& name, const std::string& args = "");
 /// Distance between two probe samples [t, x, y, z] [m].
 double probe_distance(const nlohmann::json& a, const nlohmann::json& b);
 
+/// How far probe `moving` moved relative to probe `reference` (both recorded at the same
+/// frames) between the first frames at or after t0 and t1 [s] of summary `s` [m].
+double relative_motion(const nlohmann::json& s, const std::string& moving,
+                       const std::string& reference, double t0, double t1);
+
 }  // namespace dexcloth::test

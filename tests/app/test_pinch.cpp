@@ -7,7 +7,6 @@
 /// of the whole strip), with the DART squeeze force low-passed over 50 ms.
 #include <gtest/gtest.h>
 
-#include <Eigen/Core>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -38,16 +37,7 @@ nlohmann::json pinch(double n, const std::string& coupling, const std::string& e
 
 /// How far the pinched cloth vertex moved relative to the jaw between times t0 and t1 [m].
 double slip(const nlohmann::json& s, double t0, double t1) {
-  const auto& cloth = s["probes"]["pinched"];
-  const auto& jaw = s["probes"]["finger"];
-  const auto at = [&](double t) {
-    std::size_t k = 0;
-    while (k + 1 < cloth.size() && cloth[k][0].get<double>() < t - 1e-9) ++k;
-    Eigen::Vector3d d;
-    for (int i = 0; i < 3; ++i) d[i] = cloth[k][i + 1].get<double>() - jaw[k][i + 1].get<double>();
-    return d;
-  };
-  return (at(t1) - at(t0)).norm();
+  return relative_motion(s, "pinched", "finger", t0, t1);
 }
 
 }  // namespace
