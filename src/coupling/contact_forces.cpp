@@ -67,6 +67,16 @@ namespace {
 /// Whether the group took a DART contact force (§4.1) rather than the repulsion force.
 bool takes_dart_force(const ContactGroup& g) { return g.rigid_patch >= 0; }
 
+/// Whether the group is a middle layer's contact with a cloth beside it in a squeezed stack.
+bool squeezed_layer(const ContactGroup& g, int cloth_meshes) {
+  return g.other_mesh < cloth_meshes && g.rigid_patch >= 0;
+}
+
+/// Whether the group's surface grips the vertex: a body, or a cloth squeezed against it.
+bool grips(const ContactGroup& g, int cloth_meshes) {
+  return g.other_mesh >= cloth_meshes || squeezed_layer(g, cloth_meshes);
+}
+
 /// Whether velocity `v` still closes on any of the surfaces of groups [first, end).
 bool closing(const std::vector<ContactGroup>& groups, std::size_t first, std::size_t end, const Vec3& v) {
   for (std::size_t k = first; k < end; ++k)
@@ -264,10 +274,7 @@ std::optional<cloth::FrictionConstraint> grip_constraint(
   // friction is dropped for the step: the grip dominates it). A pinched corner folds onto
   // itself within the repulsion thickness, and left to the per-vertex NCP after the solve it
   // crept out of the fingers (10–28 mm in a hand's key pinch).
-  // Bodies grip; so do the neighbouring cloths of a middle layer squeezed in a stack.
-  const auto body = [&](const ContactGroup& g) {
-    return g.other_mesh >= cloth_meshes || g.rigid_patch >= 0;
-  };
+  const auto body = [&](const ContactGroup& g) { return grips(g, cloth_meshes); };
   const auto first = std::find_if(groups.begin(), groups.end(), body);
   if (first == groups.end()) return std::nullopt;
   const Vec3 n0 = first->normal;
@@ -293,22 +300,23 @@ void stack_reactions(int cloth_meshes, double h, WorldData& data) {
     s.reaction[static_cast<std::size_t>(c)].setZero(
         data.meshes[static_cast<std::size_t>(c)].x0.rows(), 3);
   const std::vector<ContactGroup>& groups = s.groups;
-  for (std::size_t c = 0; c < s.friction.size() && c < s.friction_outcome.size(); ++c) {
+  for (std::size_t c = 0; c < s.friction.size(); ++c) {
     const cloth::FrictionOutcome& outcome = s.friction_outcome[c];
-    for (std::size_t k = 0; k < s.friction[c].size() && k < outcome.impulse.size(); ++k) {
+    if (outcome.impulse.size() != s.friction[c].size()) continue;  // not solved this step
+    for (std::size_t k = 0; k < s.friction[c].size(); ++k) {
       const auto [first, end] = s.friction_groups[c][k];
       // The constraint's impulse splits among its gripping surfaces as their normal forces.
       double total = 0.0;
       bool layered = false;
       for (int g = first; g < end; ++g) {
         const ContactGroup& cg = groups[static_cast<std::size_t>(g)];
-        if (cg.other_mesh >= cloth_meshes || cg.rigid_patch >= 0) total += cg.normal_force;
-        layered = layered || (cg.other_mesh < cloth_meshes && cg.rigid_patch >= 0);
+        if (grips(cg, cloth_meshes)) total += cg.normal_force;
+        layered = layered || squeezed_layer(cg, cloth_meshes);
       }
       if (!layered || !(total > 0.0)) continue;
       for (int g = first; g < end; ++g) {
         const ContactGroup& cg = groups[static_cast<std::size_t>(g)];
-        if (cg.other_mesh >= cloth_meshes || cg.rigid_patch < 0) continue;
+        if (!squeezed_layer(cg, cloth_meshes)) continue;
         const Vec3 force = -(cg.normal_force / total) * outcome.impulse[k] / h;
         Points& r = s.reaction[static_cast<std::size_t>(cg.other_mesh)];
         for (std::size_t j = 0; j < 3; ++j)

@@ -158,7 +158,6 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
         patch.cloths.push_back(c);
         v = i;
       }
-      patch.cloth = *std::min_element(patch.cloths.begin(), patch.cloths.end());
       data.patches.push_back(std::move(patch));
     }
   }
@@ -181,7 +180,8 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     s.v_W = patch.linear_velocity;
     s.w_W = patch.angular_velocity;
     s.mass = patch.mass;
-    s.layer = patch.cloth;  // patches of stacked cloths press on each other
+    // Patches of one layer never collide; patches of other cloths (stacked) press on each other.
+    s.layer = *std::min_element(patch.cloths.begin(), patch.cloths.end());
     pool.set(placed++, s);
   }
   return placed;

@@ -33,7 +33,6 @@ struct RigidPatch {
   Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
   std::vector<int> vertices;       ///< indices into the builder's input (cloth vertices once placed)
   std::vector<int> cloths;         ///< cloth mesh of each vertex, once placed
-  int cloth{-1};                   ///< its rigid layer once placed: the lowest of `cloths`
 };
 
 /// Groups vertices into clusters: i and j are joined (transitively) when all three paper

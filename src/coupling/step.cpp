@@ -68,7 +68,7 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
     cloth::ClothState& state = data.cloths[c];
     handle_constraints(body, state, data.time + model.dt, model.dt, data.scratch_constraints);
     // The last step's friction reactions of stacked cloths on this one.
-    if (bai_liu && c < s.reaction.size() && s.reaction[c].rows() == state.f_ext.rows())
+    if (bai_liu && c < s.reaction.size())
       state.f_ext = s.reaction[c];
     else
       state.f_ext.setZero();
@@ -77,6 +77,7 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
     cloth::DynamicsReport report;
     if (bai_liu && !s.friction[c].empty()) {
       Stopwatch clock;
+      s.friction_outcome[c].impulse.clear();  // filled only by a successful solve
       report = cloth::solve_velocities(body.model, state, model.dt, model.gravity,
                                        data.scratch_constraints, s.friction[c], s.friction_outcome[c]);
       const int n = std::max(1, s.friction_outcome[c].iterations);
