@@ -131,8 +131,11 @@ void assemble(const ClothModel& model, const ClothState& state, double h, const 
   }
 }
 
-/// The projector S onto a constraint's free directions: n·nᵀ for a free direction n, else 0.
+/// The projector S onto a constraint's free directions: n·nᵀ for a free direction n, I − d·dᵀ
+/// for a fixed direction d, else 0.
 Mat3 free_projector(const VelocityConstraint& c) {
+  if (c.fixed_direction.squaredNorm() > 0.0)
+    return Mat3::Identity() - c.fixed_direction * c.fixed_direction.transpose();
   return c.free_direction.squaredNorm() > 0.0 ? Mat3(c.free_direction * c.free_direction.transpose())
                                               : Mat3(Mat3::Zero());
 }
@@ -363,6 +366,13 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   const std::size_t nf = friction.size();
   const double eps = settings.stick_velocity;
   const auto active = [&](std::size_t k) { return !ws.held[static_cast<std::size_t>(friction[k].vertex)]; };
+  // Squeezed vertices' normal velocities join the constraints (after `constraints`, whose
+  // impulses are read back in order).
+  ws.solve_constraints.assign(constraints.begin(), constraints.end());
+  for (std::size_t k = 0; k < nf; ++k)
+    if (friction[k].squeezed && active(k))
+      ws.solve_constraints.push_back(
+          {friction[k].vertex, friction[k].surface_velocity, Vec3::Zero(), friction[k].normal});
   // Relative tangential velocity of friction vertex k at the velocity change `dv`.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
     const FrictionConstraint& f = friction[k];
@@ -385,6 +395,12 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   // Newton iterations from the last step's Δv (a warm start for the linear solves too; a vertex
   // that stuck starts stuck when its motion repeats).
   ws.dv_iterate = ws.dv;
+  for (const VelocityConstraint& c : ws.solve_constraints) {  // start feasible
+    const Mat3 S = free_projector(c);
+    ws.dv_iterate.segment<3>(3 * c.vertex) =
+        S * ws.dv_iterate.segment<3>(3 * c.vertex) +
+        (Mat3::Identity() - S) * (c.velocity - state.v.row(c.vertex).transpose());
+  }
   double e_current = objective(ws.dv_iterate);
   DynamicsReport report;
   outcome.iterations = 0;
@@ -412,9 +428,9 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
       ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(f.vertex)])] += H;
       ws.rhs.segment<3>(3 * f.vertex) += H * ws.dv_iterate.segment<3>(3 * f.vertex) - g;
     }
-    eliminate_constraints(model, state, constraints, ws);
+    eliminate_constraints(model, state, ws.solve_constraints, ws);
     ws.dv = ws.dv_iterate;  // warm start
-    report = solve_system(model, constraints, ws, loose ? settings.newton_tolerance : 0.0);
+    report = solve_system(model, ws.solve_constraints, ws, loose ? settings.newton_tolerance : 0.0);
     if (!report.ok) return report;
     ++outcome.iterations;
     if (!loose) ++accurate_solves;
@@ -450,7 +466,11 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
     const Vec3 w = slip(k, ws.dv);
     outcome.impulse[k] = -friction_gradient(w, f.max_impulse, eps);
     outcome.sticking[k] = w.norm() < eps ? 1 : 0;
-    if (outcome.sticking[k]) ws.all_constraints.push_back({f.vertex, f.surface_velocity, f.normal});
+    if (outcome.sticking[k])
+      ws.all_constraints.push_back(
+          {f.vertex, f.surface_velocity, f.squeezed ? Vec3::Zero() : f.normal, Vec3::Zero()});
+    else if (f.squeezed)
+      ws.all_constraints.push_back({f.vertex, f.surface_velocity, Vec3::Zero(), f.normal});
     state.constraint_impulse.row(f.vertex) = outcome.impulse[k].transpose();
   }
   take_velocities(model, ws.all_constraints, ws, state);

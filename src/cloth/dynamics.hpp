@@ -11,23 +11,28 @@
 
 namespace dexcloth::cloth {
 
-/// A vertex whose velocity over the step is prescribed (its unknowns are eliminated), in all
-/// three directions or, with a nonzero `free_direction`, in the plane orthogonal to it.
+/// A vertex whose velocity over the step is prescribed (its unknowns are eliminated): in all
+/// three directions; with a nonzero `free_direction`, in the plane orthogonal to it; with a
+/// nonzero `fixed_direction`, along that direction only.
 struct VelocityConstraint {
   int vertex{};                 ///< vertex index in [0, |V|)
   Vec3 velocity{Vec3::Zero()};  ///< prescribed velocity [m/s]
-  Vec3 free_direction{Vec3::Zero()};  ///< unit direction left to the dynamics, or zero (none)
+  Vec3 free_direction{Vec3::Zero()};   ///< unit direction left to the dynamics, or zero (none)
+  Vec3 fixed_direction{Vec3::Zero()};  ///< the only prescribed unit direction, or zero
 };
 
 /// Coulomb friction of a vertex against a surface, solved inside the implicit step. The vertex
 /// sticks (tangential velocity that of the surface) while that takes a tangential impulse of at
 /// most `max_impulse`; otherwise it slides and friction applies `max_impulse` against its
-/// sliding velocity. Its normal velocity is left to the dynamics.
+/// sliding velocity. Its normal velocity is left to the dynamics, unless it is squeezed between
+/// two surfaces: then it moves with them along the normal too (their contact forces, outside the
+/// solve, would stop any normal motion relative to them).
 struct FrictionConstraint {
   int vertex{};                          ///< vertex index in [0, |V|)
   Vec3 normal{Vec3::UnitZ()};            ///< unit contact normal (sign irrelevant)
   Vec3 surface_velocity{Vec3::Zero()};   ///< velocity of the touching surface [m/s]
   double max_impulse{};                  ///< μ·Σ fN·h, the friction impulse bound [N·s], ≥ 0
+  bool squeezed{false};                  ///< normal velocity prescribed: the surface's
 };
 
 /// How the friction of a solve is solved.
@@ -77,7 +82,8 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
 /// B_k its bound — the implicit Euler step whose friction impulses lie in their discs and
 /// oppose the slip (Coulomb) — with ‖w‖ smoothed below ε = settings.stick_velocity, by Newton's
 /// method with a backtracking line search, started from the last step's Δv. Vertices that
-/// end below ε stick: they take their surface's tangential velocity exactly. Vertices also in
+/// end below ε stick: they take their surface's tangential velocity exactly; squeezed ones take
+/// its normal velocity too, as an eliminated constraint, sticking or not. Vertices also in
 /// `constraints` keep those, without friction. Writes v̄ into state.v, the friction impulses into
 /// state.constraint_impulse, and `outcome`; on failure state.v is left unchanged.
 DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, double h,

@@ -24,6 +24,7 @@ struct DynamicsWorkspace {
   std::vector<Mat3> base_blocks;
   Eigen::VectorXd base_rhs;
   std::vector<VelocityConstraint> all_constraints;
+  std::vector<VelocityConstraint> solve_constraints;  ///< a friction solve's, squeezed normals too
   std::vector<char> held;  ///< |V| flags of vertices held by the caller's velocity constraints
   Eigen::VectorXd dv_iterate;  ///< friction Newton: current iterate
   Eigen::VectorXd dv_step;     ///< friction Newton: step to the next iterate

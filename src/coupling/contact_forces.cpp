@@ -77,6 +77,16 @@ bool grips(const ContactGroup& g, int cloth_meshes) {
   return g.other_mesh >= cloth_meshes || squeezed_layer(g, cloth_meshes);
 }
 
+/// Whether a vertex with contact groups `run` is squeezed: it grips a patch that two bodies
+/// pressed at the last rigid step (`squeeze` per pool patch, from squeeze_middle_layers).
+bool squeezed(std::span<const ContactGroup> run, int cloth_meshes, const std::vector<double>& squeeze) {
+  return std::any_of(run.begin(), run.end(), [&](const ContactGroup& g) {
+    return grips(g, cloth_meshes) && g.rigid_patch >= 0 &&
+           static_cast<std::size_t>(g.rigid_patch) < squeeze.size() &&
+           squeeze[static_cast<std::size_t>(g.rigid_patch)] > 0.0;
+  });
+}
+
 /// Whether velocity `v` still closes on any of the surfaces of groups [first, end).
 bool closing(const std::vector<ContactGroup>& groups, std::size_t first, std::size_t end, const Vec3& v) {
   for (std::size_t k = first; k < end; ++k)
@@ -359,6 +369,7 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
     const std::size_t end = vertex_end(groups, g);
     const std::span<const ContactGroup> run(groups.data() + g, end - g);
     if (auto c = grip_constraint(run, cloth_meshes, coplanar_sin, h, surface)) {
+      c->squeezed = squeezed(run, cloth_meshes, s.squeeze);
       s.friction[static_cast<std::size_t>(groups[g].cloth)].push_back(*c);
       s.friction_groups[static_cast<std::size_t>(groups[g].cloth)].emplace_back(
           static_cast<int>(g), static_cast<int>(end));

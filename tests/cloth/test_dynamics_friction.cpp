@@ -102,6 +102,43 @@ TEST(DynamicsFriction, SheetOnAnInclineSticksIffTanThetaBelowMu) {
   }
 }
 
+TEST(DynamicsFriction, SqueezedVerticesMoveWithTheirSurfaceAlongTheNormal) {
+  // The incline again, every vertex squeezed between surfaces rising at 2 cm/s along the normal:
+  // the normal velocity is theirs exactly (gravity's normal part no longer shows), while the
+  // tangential motion keeps Coulomb's threshold: stuck below tanθ = μ, sliding at
+  // g(sinθ − μcosθ) above it.
+  const double mu = 0.4, rise = 0.02;
+  const ClothMesh mesh = make_grid(0.2, 0.2, 6, 6);
+  for (double ratio : {0.8, 1.5}) {
+    const double theta = std::atan(ratio * mu);
+    const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
+    for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
+      ClothModel model = build_model(mesh, Material{});
+      model.solver.linear_solver = solver;
+      model.solver.tolerance = 1e-10;
+      ClothState state = make_state(model, mesh.x);
+      std::vector<FrictionConstraint> friction;
+      for (int i = 0; i < model.num_vertices(); ++i)
+        friction.push_back({i, Vec3::UnitZ(), Vec3(0.0, 0.0, rise),
+                            mu * model.mass[i] * kG * std::cos(theta) * kStep, true});
+      FrictionOutcome outcome;
+      const int steps = 20;
+      for (int s = 0; s < steps; ++s) {
+        ASSERT_TRUE(solve_velocities(model, state, kStep, gravity, {}, friction, outcome).ok);
+        advance_positions(state, kStep);
+      }
+      const double expected =
+          ratio > 1.0 ? steps * kStep * kG * (std::sin(theta) - mu * std::cos(theta)) : 0.0;
+      for (int i = 0; i < model.num_vertices(); ++i) {
+        EXPECT_NEAR(state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
+        EXPECT_NEAR(state.v(i, 1), 0.0, 1e-9);
+        EXPECT_NEAR(state.v(i, 2), rise, 1e-12);
+        EXPECT_EQ(outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
+      }
+    }
+  }
+}
+
 TEST(DynamicsFriction, PinchedStripHeldIffTheBoundCoversItsWeight) {
   // A 5 cm × 30 cm strip hanging along −y, its top two rows pinched (normal z, a still jaw).
   // Σ bounds = factor·W·h. Held (factor 1.5): after the load settles on the pinch the pinched
