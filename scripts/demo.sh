@@ -4,4 +4,4 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/setup.sh"
 bash "$here/scripts/build.sh"
-"$here/build/dexcloth" run "$here/scenes/drape_sphere.json" --out "$here/out/drape_sphere"
+"$here/build/dexcloth" run "$here/scenes/pinch_move.json" --out "$here/out/pinch_move"
