@@ -11,6 +11,10 @@
 namespace dexcloth::cloth {
 namespace {
 
+/// A sliding vertex's slip has settled (Newton's Hessian is used) when it turned by less than
+/// acos(0.9) ≈ 26° since the last iteration.
+constexpr double kSettledCos = 0.9;
+
 /// Sizes the workspace for `model` (first step only).
 void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
   if (ws.num_vertices == model.num_vertices()) return;
@@ -408,6 +412,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   // and a PCG truncated from the iterate does); near it, to the solver's tolerance.
   bool loose = true;
   int accurate_solves = 0;
+  ws.last_slip.assign(nf, Vec3::Zero());
   for (int it = 0; it <= settings.max_iterations; ++it) {
     if (it == settings.max_iterations) {
       if (!loose) break;
@@ -422,8 +427,17 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
       const Vec3 w = slip(k, ws.dv_iterate);
       const double sl = w.norm();
       const Mat3 T = Mat3::Identity() - f.normal * f.normal.transpose();
-      const Mat3 H = sl < eps ? Mat3(f.max_impulse / eps * T)
-                              : Mat3(f.max_impulse / sl * (T - w * w.transpose() / (sl * sl)));
+      // Newton's Hessian has no curvature along a sliding vertex's slip, so far from the answer,
+      // where slips turn and reverse, its steps overshoot (line-search halvings, poor PCG warm
+      // starts: in a hand's pinch most steps ran out of iterations). The loose steps use the
+      // isotropic B/s·T of iteratively reweighted least squares instead, a majoriser whose full
+      // steps descend; the accurate steps use Newton's once a slip's direction has settled.
+      const bool settled = !loose && it > 0 &&
+                           ws.last_slip[k].dot(w) > kSettledCos * sl * ws.last_slip[k].norm();
+      ws.last_slip[k] = w;
+      const Mat3 H = sl < eps   ? Mat3(f.max_impulse / eps * T)
+                     : settled ? Mat3(f.max_impulse / sl * (T - w * w.transpose() / (sl * sl)))
+                               : Mat3(f.max_impulse / sl * T);
       const Vec3 g = friction_gradient(w, f.max_impulse, eps);
       ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(f.vertex)])] += H;
       ws.rhs.segment<3>(3 * f.vertex) += H * ws.dv_iterate.segment<3>(3 * f.vertex) - g;

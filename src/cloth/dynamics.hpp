@@ -81,7 +81,8 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
 /// ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k‖w_k‖, w_k the tangential slip of friction vertex k at v + Δv and
 /// B_k its bound — the implicit Euler step whose friction impulses lie in their discs and
 /// oppose the slip (Coulomb) — with ‖w‖ smoothed below ε = settings.stick_velocity, by Newton's
-/// method with a backtracking line search, started from the last step's Δv. Vertices that
+/// method with a backtracking line search (reweighted least-squares steps while the solves are
+/// loose or a slip still turns), started from the last step's Δv. Vertices that
 /// end below ε stick: they take their surface's tangential velocity exactly; squeezed ones take
 /// its normal velocity too, as an eliminated constraint, sticking or not. Vertices also in
 /// `constraints` keep those, without friction. Writes v̄ into state.v, the friction impulses into

@@ -25,6 +25,7 @@ struct DynamicsWorkspace {
   Eigen::VectorXd base_rhs;
   std::vector<VelocityConstraint> all_constraints;
   std::vector<VelocityConstraint> solve_constraints;  ///< a friction solve's, squeezed normals too
+  std::vector<Vec3> last_slip;  ///< each friction vertex's slip at the last Newton iterate
   std::vector<char> held;  ///< |V| flags of vertices held by the caller's velocity constraints
   Eigen::VectorXd dv_iterate;  ///< friction Newton: current iterate
   Eigen::VectorXd dv_step;     ///< friction Newton: step to the next iterate
