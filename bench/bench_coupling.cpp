@@ -5,6 +5,7 @@
 ///   BM_Coupled/pinch_napkin   scenes/pinch_napkin.json from 2.2 s (the hand carrying the napkin).
 ///   BM_Coupled/pinch_move     scenes/pinch_move.json from 2.2 s (the hand carrying a 0.3 m sheet).
 ///   BM_Coupled/gripper_layers scenes/gripper_layers.json from 1.8 s (three strips held, still).
+///   BM_Coupled/three_layers   scenes/three_layers.json from 2.6 s (the hand carrying three napkins).
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
 /// triangles. Run (Release):
@@ -63,6 +64,9 @@ BENCHMARK_CAPTURE(BM_Coupled, pinch_napkin, std::string("pinch_napkin"), 2.2)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, gripper_layers, std::string("gripper_layers"), 1.8)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(100);
+BENCHMARK_CAPTURE(BM_Coupled, three_layers, std::string("three_layers"), 2.6)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_move, std::string("pinch_move"), 2.2)

@@ -17,8 +17,8 @@ TEST(ThreeLayers, TheHandCarriesAllThreeNapkinsWithoutIntersections) {
   // one from the layers around it, while the wrist lifts them 15 cm, carries them 20 cm and
   // turns them 60°: each napkin's pinched vertex stays between the pads and rises with the hand.
   // A napkin that slides out falls below where it was let go. Measured over six runs with the
-  // middle napkin shifted ≤ 0.3 mm: all three held, within 6.8–11.1 mm of the pad centres,
-  // rising 14.6–15.0 cm. Before squeezed vertices moved with the pads along the normal, the
+  // middle napkin shifted ≤ 0.3 mm: all three held, within 7.0–11.9 mm of the pad centres,
+  // rising 14.2–15.0 cm. Before squeezed vertices moved with the pads along the normal, the
   // stack was lost within a second after the lift.
   for (const char* layer : {"pinched_bottom", "pinched_middle", "pinched_top"}) {
     const auto& pinched = s["probes"][layer];
