@@ -177,6 +177,23 @@ void ImpactZoneSolver::move_rigidly(const std::vector<CollisionMesh*>& meshes,
   }
 }
 
+void ImpactZoneSolver::release_held_corners(const std::vector<CollisionMesh*>& meshes,
+                                            const std::vector<int>& impacts,
+                                            std::vector<int>& members) {
+  if (members.empty()) return;
+  const int root = find_root(members.front());
+  for (const int i : impacts)
+    for (Corner& c : m_impacts[static_cast<std::size_t>(i)].corner) {
+      CollisionMesh& m = *meshes[static_cast<std::size_t>(c.mesh)];
+      if (c.inv_mass > 0.0 || !held_by_friction(m, c.vertex)) continue;
+      m.frozen[static_cast<std::size_t>(c.vertex)] = 0;
+      ++m_released;
+      c.inv_mass = inverse_mass(m, c.vertex);
+      m_parent[static_cast<std::size_t>(find_root(c.gid))] = root;
+      members.push_back(c.gid);
+    }
+}
+
 void ImpactZoneSolver::stay_at_start(const std::vector<CollisionMesh*>& meshes,
                                      const std::vector<int>& members) {
   for (const int g : members) {
@@ -289,7 +306,11 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
         report.warnings.push_back("impact zones: zone of " + size + " vertices still colliding after " +
                                   std::to_string(iter) + " rounds; zone moved rigidly");
       } else {
-        // A rigid zone hit again (by neighbours or obstacles) keeps its start positions.
+        // A rigid zone hit again (by neighbours or obstacles) keeps its start positions. Cloth
+        // vertices held by static friction that run into it are let go and stay with it: held,
+        // they would go on through a zone that no longer moves (a stack's middle layer crossed
+        // the layer beside it when the hand's pinch re-opened).
+        release_held_corners(meshes, m_zone_impacts, m_zone_members);
         stay_at_start(meshes, m_zone_members);
         next = 2;
         report.warnings.push_back("impact zones: zone of " + size +

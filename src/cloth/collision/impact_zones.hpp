@@ -79,6 +79,9 @@ class ImpactZoneSolver {
                const ImpactZoneOptions& options);
   void move_rigidly(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& members);
   void stay_at_start(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& members);
+  /// Lets go the friction-held corners of `impacts` and adds them to the zone of `members`.
+  void release_held_corners(const std::vector<CollisionMesh*>& meshes,
+                            const std::vector<int>& impacts, std::vector<int>& members);
 
   CollisionCandidates m_candidates;
   std::vector<const CollisionMesh*> m_view;
