@@ -257,7 +257,9 @@ void demand_inputs(const ClothModel& model, const ClothState& state, double h,
   DEXCLOTH_DEMAND(h > 0.0);
   DEXCLOTH_DEMAND(model.solver.threads >= 1);
   DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
-  for (const VelocityConstraint& c : constraints) DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv);
+  for (const VelocityConstraint& c : constraints)
+    DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv &&
+                    (c.free_direction.squaredNorm() == 0.0 || c.fixed_direction.squaredNorm() == 0.0));
 }
 
 /// Gradient of B·φ(‖w‖) in the slip w, φ the norm smoothed below ε (s²/2ε + ε/2 there): the
