@@ -41,6 +41,34 @@ std::vector<FrictionConstraint> pinch_top_rows(double total) {
   return friction;
 }
 
+/// A 6 × 6 sheet in the x–y plane on an incline of angle θ (gravity tilted), every vertex in
+/// friction against a surface of normal z moving at `surface`, with bound μ·m·g·cosθ·h; after
+/// `steps` solves (positions advanced between them) `state` and `outcome` are the last ones.
+struct Incline {
+  ClothModel model;
+  ClothState state;
+  FrictionOutcome outcome;
+  bool ok{true};  ///< every solve succeeded
+};
+Incline slide_on_incline(LinearSolver solver, double mu, double theta, const Vec3& surface,
+                         bool squeezed, int steps) {
+  const ClothMesh mesh = make_grid(0.2, 0.2, 6, 6);
+  Incline r{build_model(mesh, Material{}), {}, {}};
+  r.model.solver.linear_solver = solver;
+  r.model.solver.tolerance = 1e-10;
+  r.state = make_state(r.model, mesh.x);
+  std::vector<FrictionConstraint> friction;
+  for (int i = 0; i < r.model.num_vertices(); ++i)
+    friction.push_back({i, Vec3::UnitZ(), surface,
+                        mu * r.model.mass[i] * kG * std::cos(theta) * kStep, squeezed});
+  const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
+  for (int s = 0; s < steps && r.ok; ++s) {
+    r.ok = solve_velocities(r.model, r.state, kStep, gravity, {}, friction, r.outcome).ok;
+    advance_positions(r.state, kStep);
+  }
+  return r;
+}
+
 }  // namespace
 
 TEST(DynamicsFriction, PartialConstraintPrescribesOnlyTheTangentialVelocity) {
@@ -71,33 +99,21 @@ TEST(DynamicsFriction, SheetOnAnInclineSticksIffTanThetaBelowMu) {
   // μ·m·g·cosθ·h. Uniform motion loads no spring, so each step Δv_x = g(sinθ − μcosθ)h when
   // tanθ > μ, and 0 otherwise.
   const double mu = 0.4;
-  const ClothMesh mesh = make_grid(0.2, 0.2, 6, 6);
+  const int steps = 20;
   for (double ratio : {0.8, 0.99, 1.01, 1.5}) {
     const double theta = std::atan(ratio * mu);
-    const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
     for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
-      ClothModel model = build_model(mesh, Material{});
-      model.solver.linear_solver = solver;
-      model.solver.tolerance = 1e-10;
-      ClothState state = make_state(model, mesh.x);
-      std::vector<FrictionConstraint> friction;
-      for (int i = 0; i < model.num_vertices(); ++i)
-        friction.push_back({i, Vec3::UnitZ(), Vec3::Zero(), mu * model.mass[i] * kG * std::cos(theta) * kStep});
-      FrictionOutcome outcome;
-      const int steps = 20;
-      for (int s = 0; s < steps; ++s) {
-        ASSERT_TRUE(solve_velocities(model, state, kStep, gravity, {}, friction, outcome).ok);
-        advance_positions(state, kStep);
-      }
+      const Incline r = slide_on_incline(solver, mu, theta, Vec3::Zero(), false, steps);
+      ASSERT_TRUE(r.ok);
       const double expected =
           ratio > 1.0 ? steps * kStep * kG * (std::sin(theta) - mu * std::cos(theta)) : 0.0;
-      for (int i = 0; i < model.num_vertices(); ++i) {
-        EXPECT_NEAR(state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
-        EXPECT_NEAR(state.v(i, 1), 0.0, 1e-9);
-        EXPECT_NEAR(state.v(i, 2), -steps * kStep * kG * std::cos(theta), 1e-8);
-        EXPECT_EQ(outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
+      for (int i = 0; i < r.model.num_vertices(); ++i) {
+        EXPECT_NEAR(r.state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
+        EXPECT_NEAR(r.state.v(i, 1), 0.0, 1e-9);
+        EXPECT_NEAR(r.state.v(i, 2), -steps * kStep * kG * std::cos(theta), 1e-8);
+        EXPECT_EQ(r.outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
       }
-      EXPECT_LE(outcome.iterations, 6);
+      EXPECT_LE(r.outcome.iterations, 6);
     }
   }
 }
@@ -108,32 +124,19 @@ TEST(DynamicsFriction, SqueezedVerticesMoveWithTheirSurfaceAlongTheNormal) {
   // tangential motion keeps Coulomb's threshold: stuck below tanθ = μ, sliding at
   // g(sinθ − μcosθ) above it.
   const double mu = 0.4, rise = 0.02;
-  const ClothMesh mesh = make_grid(0.2, 0.2, 6, 6);
+  const int steps = 20;
   for (double ratio : {0.8, 1.5}) {
     const double theta = std::atan(ratio * mu);
-    const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
     for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
-      ClothModel model = build_model(mesh, Material{});
-      model.solver.linear_solver = solver;
-      model.solver.tolerance = 1e-10;
-      ClothState state = make_state(model, mesh.x);
-      std::vector<FrictionConstraint> friction;
-      for (int i = 0; i < model.num_vertices(); ++i)
-        friction.push_back({i, Vec3::UnitZ(), Vec3(0.0, 0.0, rise),
-                            mu * model.mass[i] * kG * std::cos(theta) * kStep, true});
-      FrictionOutcome outcome;
-      const int steps = 20;
-      for (int s = 0; s < steps; ++s) {
-        ASSERT_TRUE(solve_velocities(model, state, kStep, gravity, {}, friction, outcome).ok);
-        advance_positions(state, kStep);
-      }
+      const Incline r = slide_on_incline(solver, mu, theta, Vec3(0.0, 0.0, rise), true, steps);
+      ASSERT_TRUE(r.ok);
       const double expected =
           ratio > 1.0 ? steps * kStep * kG * (std::sin(theta) - mu * std::cos(theta)) : 0.0;
-      for (int i = 0; i < model.num_vertices(); ++i) {
-        EXPECT_NEAR(state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
-        EXPECT_NEAR(state.v(i, 1), 0.0, 1e-9);
-        EXPECT_NEAR(state.v(i, 2), rise, 1e-12);
-        EXPECT_EQ(outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
+      for (int i = 0; i < r.model.num_vertices(); ++i) {
+        EXPECT_NEAR(r.state.v(i, 0), expected, 1e-9 + 1e-6 * expected) << ratio << " vertex " << i;
+        EXPECT_NEAR(r.state.v(i, 1), 0.0, 1e-9);
+        EXPECT_NEAR(r.state.v(i, 2), rise, 1e-12);
+        EXPECT_EQ(r.outcome.sticking[static_cast<std::size_t>(i)], ratio > 1.0 ? 0 : 1);
       }
     }
   }
