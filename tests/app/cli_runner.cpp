@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -72,6 +73,26 @@ double relative_motion(const nlohmann::json& s, const std::string& moving,
   const auto d0 = offset(t0), d1 = offset(t1);
   return std::sqrt((d1[0] - d0[0]) * (d1[0] - d0[0]) + (d1[1] - d0[1]) * (d1[1] - d0[1]) +
                    (d1[2] - d0[2]) * (d1[2] - d0[2]));
+}
+
+Carry carry(const nlohmann::json& s, const std::string& pinched, double release) {
+  const auto& p = s["probes"][pinched];
+  const auto& thumb = s["probes"]["thumb_tip"];
+  const auto& index = s["probes"]["index_pad"];
+  EXPECT_EQ(p.size(), thumb.size()) << pinched;
+  EXPECT_EQ(p.size(), index.size()) << pinched;
+  Carry out;
+  if (p.empty() || p.size() != thumb.size() || p.size() != index.size()) return out;
+  double z_release = p[0][3].get<double>();
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const double t = p[k][0].get<double>();
+    if (t <= release + 1e-9) z_release = p[k][3].get<double>();
+    if (t >= release - 1e-9)
+      out.farthest = std::max(
+          {out.farthest, probe_distance(p[k], thumb[k]), probe_distance(p[k], index[k])});
+  }
+  out.rise = p.back()[3].get<double>() - z_release;
+  return out;
 }
 
 }  // namespace dexcloth::test

@@ -36,4 +36,13 @@ double probe_distance(const nlohmann::json& a, const nlohmann::json& b);
 double relative_motion(const nlohmann::json& s, const std::string& moving,
                        const std::string& reference, double t0, double t1);
 
+/// A hand's carry of a pinched cloth vertex: how far probe `pinched` got from the pad probes
+/// `thumb_tip` and `index_pad` at any frame from `release` [s] on, and how much it rose from its
+/// last frame at or before `release` to the end [m].
+struct Carry {
+  double farthest{};
+  double rise{};
+};
+Carry carry(const nlohmann::json& s, const std::string& pinched, double release);
+
 }  // namespace dexcloth::test

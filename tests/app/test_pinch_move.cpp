@@ -12,11 +12,6 @@ using namespace dexcloth::test;
 
 TEST(PinchMove, TheHandCarriesTheSheetByFrictionAloneWithoutIntersections) {
   const auto s = run_scene("pinch_move");
-  const auto& pinched = s["probes"]["pinched"];
-  const auto& thumb = s["probes"]["thumb_tip"];
-  const auto& index = s["probes"]["index_pad"];
-  ASSERT_EQ(pinched.size(), thumb.size());
-  ASSERT_EQ(pinched.size(), index.size());
   // From the handle's release (1.4 s) to the end the sheet hangs from the pads alone (its
   // weight 0.13 N, held by friction at about 0.7 N of squeeze) while the wrist lifts it 15 cm,
   // carries it 20 cm and turns it 60°: the pinched vertex rises with the hand and stays between
@@ -24,16 +19,9 @@ TEST(PinchMove, TheHandCarriesTheSheetByFrictionAloneWithoutIntersections) {
   // from the pad centres, 14.7–14.8 cm of rise. Before squeezed vertices moved with the pads
   // along the normal, the sheet slid out within 0.2 s of the release: the pinched vertex ended
   // 37 cm from the pads and below where it was let go.
-  double z_release = 0.0, farthest = 0.0;
-  for (std::size_t k = 0; k < pinched.size(); ++k) {
-    const double t = pinched[k][0].get<double>();
-    if (t <= 1.4 + 1e-9) z_release = pinched[k][3].get<double>();
-    if (t >= 1.4 - 1e-9)
-      farthest = std::max(
-          {farthest, probe_distance(pinched[k], thumb[k]), probe_distance(pinched[k], index[k])});
-  }
-  EXPECT_LT(farthest, 0.02);
-  EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.12);
+  const Carry c = carry(s, "pinched", 1.4);
+  EXPECT_LT(c.farthest, 0.02);
+  EXPECT_GT(c.rise, 0.12);
   // No cloth–cloth or cloth–hand intersection at any recorded frame, no lost state.
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(s["nan"], false);

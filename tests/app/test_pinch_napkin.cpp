@@ -11,10 +11,6 @@ using namespace dexcloth::test;
 
 TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
   const auto s = run_scene("pinch_napkin");
-  const auto& pinched = s["probes"]["pinched"];
-  const auto& thumb = s["probes"]["thumb_tip"];
-  const auto& index = s["probes"]["index_pad"];
-  ASSERT_EQ(pinched.size(), thumb.size());
   // From the handle's release (1.4 s) to the end the napkin hangs from the pads alone while the
   // wrist lifts it 15 cm and carries it 20 cm, turning 60°: the pinched vertex rises with the
   // hand and stays between the pads. A dropped napkin falls below where it was let go. The
@@ -26,16 +22,9 @@ TEST(PinchNapkin, TheHandCarriesTheNapkinByFrictionAloneWithoutIntersections) {
   // 14.0–14.9 cm, 5.9–14.2 mm. Since squeezed vertices move with the pads along the normal in
   // the implicit solve: 8 of 8, 14.9–15.0 cm, 5.8–7.1 mm; with reweighted least-squares steps
   // in the friction solve: 8 of 8, 15.0 cm, 6.2–6.8 mm.
-  double z_release = 0.0, farthest = 0.0;
-  for (std::size_t k = 0; k < pinched.size(); ++k) {
-    const double t = pinched[k][0].get<double>();
-    if (t <= 1.4 + 1e-9) z_release = pinched[k][3].get<double>();
-    if (t >= 1.4 - 1e-9)
-      farthest = std::max(
-          {farthest, probe_distance(pinched[k], thumb[k]), probe_distance(pinched[k], index[k])});
-  }
-  EXPECT_LT(farthest, 0.03);
-  EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.12);
+  const Carry c = carry(s, "pinched", 1.4);
+  EXPECT_LT(c.farthest, 0.03);
+  EXPECT_GT(c.rise, 0.12);
   // No cloth–cloth or cloth–hand intersection at any recorded frame, no lost state.
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(s["nan"], false);

@@ -11,8 +11,6 @@ using namespace dexcloth::test;
 
 TEST(ThreeLayers, TheHandCarriesAllThreeNapkinsWithoutIntersections) {
   const auto s = run_scene("three_layers");
-  const auto& thumb = s["probes"]["thumb_tip"];
-  const auto& index = s["probes"]["index_pad"];
   // From the handles' release (1.7 s) on, the outer napkins hang from the pads and the middle
   // one from the layers around it, while the wrist lifts them 15 cm, carries them 20 cm and
   // turns them 60°: each napkin's pinched vertex stays between the pads and rises with the hand.
@@ -21,18 +19,9 @@ TEST(ThreeLayers, TheHandCarriesAllThreeNapkinsWithoutIntersections) {
   // rising 14.2–15.0 cm. Before squeezed vertices moved with the pads along the normal, the
   // stack was lost within a second after the lift.
   for (const char* layer : {"pinched_bottom", "pinched_middle", "pinched_top"}) {
-    const auto& pinched = s["probes"][layer];
-    ASSERT_EQ(pinched.size(), thumb.size()) << layer;
-    double z_release = 0.0, farthest = 0.0;
-    for (std::size_t k = 0; k < pinched.size(); ++k) {
-      const double t = pinched[k][0].get<double>();
-      if (t <= 1.7 + 1e-9) z_release = pinched[k][3].get<double>();
-      if (t >= 1.7 - 1e-9)
-        farthest = std::max({farthest, probe_distance(pinched[k], thumb[k]),
-                             probe_distance(pinched[k], index[k])});
-    }
-    EXPECT_LT(farthest, 0.02) << layer;
-    EXPECT_GT(pinched.back()[3].get<double>() - z_release, 0.12) << layer;
+    const Carry c = carry(s, layer, 1.7);
+    EXPECT_LT(c.farthest, 0.02) << layer;
+    EXPECT_GT(c.rise, 0.12) << layer;
   }
   // No cloth–cloth or cloth–hand intersection at any recorded frame, no lost state.
   EXPECT_EQ(s["intersections_max"], 0);
