@@ -95,22 +95,47 @@ int SparseLdlt::factorize(std::span<const double> values) {
 }
 
 void SparseLdlt::solve_in_place(std::span<double> b) const {
+  forward_in_place(b);
+  backward_in_place(b, 0);
+}
+
+void SparseLdlt::forward_in_place(std::span<double> b) const {
   DEXCLOTH_DEMAND(b.size() == static_cast<std::size_t>(m_n));
-  const int n = m_n;
   const int* const Lp = m_Lp.data();
   const int* const Li = m_Li.data();
   const double* const Lx = m_Lx.data();
   double* const x = b.data();
-  // L·z = b (forward), D·w = z, Lᵀ·x = w (backward).
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < m_n; ++j) {
     const double xj = x[j];
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) x[Li[p]] -= Lx[p] * xj;
   }
-  for (int j = 0; j < n; ++j) x[j] /= m_D[static_cast<std::size_t>(j)];
-  for (int j = n - 1; j >= 0; --j) {
+}
+
+void SparseLdlt::backward_in_place(std::span<double> b, int tail) const {
+  DEXCLOTH_DEMAND(b.size() == static_cast<std::size_t>(m_n) && tail >= 0 && tail <= m_n);
+  const int* const Lp = m_Lp.data();
+  const int* const Li = m_Li.data();
+  const double* const Lx = m_Lx.data();
+  double* const x = b.data();
+  const int lead = m_n - tail;
+  // D·w = z, then Lᵀ·x = w, for the leading unknowns (the tail holds its solution already).
+  for (int j = 0; j < lead; ++j) x[j] /= m_D[static_cast<std::size_t>(j)];
+  for (int j = lead - 1; j >= 0; --j) {
     double xj = x[j];
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) xj -= Lx[p] * x[Li[p]];
     x[j] = xj;
+  }
+}
+
+void SparseLdlt::trailing_factor(int tail, Eigen::MatrixXd& L22, Eigen::VectorXd& D2) const {
+  DEXCLOTH_DEMAND(tail >= 0 && tail <= m_n);
+  const int lead = m_n - tail;
+  L22.setIdentity(tail, tail);
+  D2.resize(tail);
+  for (int j = lead; j < m_n; ++j) {
+    D2[j - lead] = m_D[static_cast<std::size_t>(j)];
+    for (int p = m_Lp[static_cast<std::size_t>(j)]; p < m_Lp[static_cast<std::size_t>(j) + 1]; ++p)
+      L22(m_Li[static_cast<std::size_t>(p)] - lead, j - lead) = m_Lx[static_cast<std::size_t>(p)];
   }
 }
 

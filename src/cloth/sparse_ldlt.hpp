@@ -3,6 +3,7 @@
 /// factorisation (elimination tree + row patterns, as in T. Davis, "Algorithm 849: a concise
 /// sparse Cholesky factorization package", 2005). The pattern is analysed once; every later
 /// factorisation and solve reuses the buffers allocated by `analyze`.
+#include <Eigen/Core>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -23,6 +24,17 @@ class SparseLdlt {
 
   /// Solves A·x = b in place (`b` of size n holds x on return). Requires a successful factorize.
   void solve_in_place(std::span<double> b) const;
+
+  /// The solve in two halves around the last `tail` unknowns, whose values another problem may
+  /// settle (a Schur complement): forward_in_place turns b into z = L⁻¹·b; the tail of the
+  /// solution then satisfies L₂₂·D₂·L₂₂ᵀ·x₂ = L₂₂·z₂ (trailing_factor); with x₂ written over
+  /// the tail of z, backward_in_place finishes the leading unknowns.
+  void forward_in_place(std::span<double> b) const;
+  void backward_in_place(std::span<double> b, int tail) const;
+
+  /// The trailing tail×tail block of the factor: unit lower L₂₂ and D₂. L₂₂·D₂·L₂₂ᵀ is the
+  /// Schur complement of the leading unknowns in A.
+  void trailing_factor(int tail, Eigen::MatrixXd& L22, Eigen::VectorXd& D2) const;
 
   /// Nonzeros of the strictly lower factor L.
   std::size_t factor_nonzeros() const { return m_Li.size(); }

@@ -78,3 +78,48 @@ TEST(SparseLdlt, ReportsTheFirstNonPositivePivot) {
   EXPECT_EQ(ldlt.factorize(std::vector<double>{1.0, 0.5, 1.0}), -1);
   EXPECT_EQ(ldlt.factorize(std::vector<double>{std::nan(""), 0.5, 1.0}), 0);
 }
+
+TEST(SparseLdlt, TrailingFactorGivesTheSchurComplementAndTheSplitSolveTheSolution) {
+  // A random sparse SPD system split into 50 leading and 10 trailing unknowns: L₂₂·D₂·L₂₂ᵀ must
+  // be A₂₂ − A₂₁·A₁₁⁻¹·A₁₂; solving it for the tail and back-substituting the rest must give
+  // the full solution.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  const int n = 60, tail = 10, lead = n - tail;
+  Eigen::MatrixXi pattern = Eigen::MatrixXi::Identity(n, n);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (uni(rng) > 0.85) {
+        pattern(i, j) = pattern(j, i) = 1;
+        A(i, j) = A(j, i) = uni(rng);
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i) A(i, i) = A.row(i).cwiseAbs().sum() + 0.1;
+  const Upper u = compress_upper(A, pattern);
+  SparseLdlt ldlt;
+  ldlt.analyze(n, u.col_start, u.row);
+  ASSERT_EQ(ldlt.factorize(u.value), -1);
+
+  Eigen::MatrixXd L22;
+  Eigen::VectorXd D2;
+  ldlt.trailing_factor(tail, L22, D2);
+  const Eigen::MatrixXd schur =
+      A.bottomRightCorner(tail, tail) -
+      A.bottomLeftCorner(tail, lead) *
+          A.topLeftCorner(lead, lead).ldlt().solve(A.topRightCorner(lead, tail));
+  EXPECT_LT((L22 * D2.asDiagonal() * L22.transpose() - schur).cwiseAbs().maxCoeff(), 1e-12);
+
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b[i] = uni(rng);
+  const Eigen::VectorXd expected = A.ldlt().solve(b);
+  std::vector<double> x(b.data(), b.data() + n);
+  ldlt.forward_in_place(x);
+  const Eigen::VectorXd z_tail = Eigen::Map<const Eigen::VectorXd>(x.data() + lead, tail);
+  const Eigen::VectorXd x_tail =
+      (L22 * D2.asDiagonal() * L22.transpose()).ldlt().solve(L22 * z_tail);
+  for (int i = 0; i < tail; ++i) x[static_cast<std::size_t>(lead + i)] = x_tail[i];
+  ldlt.backward_in_place(x, tail);
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(x[static_cast<std::size_t>(i)], expected[i], 1e-12) << i;
+}
