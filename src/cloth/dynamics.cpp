@@ -1,6 +1,7 @@
 #include "cloth/dynamics.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "cloth/bending.hpp"
@@ -10,10 +11,6 @@
 
 namespace dexcloth::cloth {
 namespace {
-
-/// A sliding vertex's slip has settled (Newton's Hessian is used) when it turned by less than
-/// acos(0.9) ≈ 26° since the last iteration.
-constexpr double kSettledCos = 0.9;
 
 /// Sizes the workspace for `model` (first step only).
 void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
@@ -28,22 +25,22 @@ void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
   ws.constrained.assign(static_cast<std::size_t>(nv), 0);
 }
 
-/// Builds the permuted upper-triangle pattern for the direct solver and analyses it (once).
-void prepare_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
-  if (ws.ldlt_ready) return;
-  const SystemPattern& p = model.pattern;
+}  // namespace
+
+void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d) {
   const int nv = p.num_vertices;
+  d.order.assign(order.begin(), order.end());
   std::vector<int> new_of(static_cast<std::size_t>(nv));
   for (int k = 0; k < nv; ++k)
-    new_of[static_cast<std::size_t>(p.fill_order[static_cast<std::size_t>(k)])] = k;
+    new_of[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
 
-  ws.ldlt_col_start.assign(1, 0);
-  ws.ldlt_row.clear();
-  ws.ldlt_source.clear();
-  ws.ldlt_dof.resize(static_cast<std::size_t>(3 * nv));
+  d.col_start.assign(1, 0);
+  d.row.clear();
+  d.source.clear();
+  d.dof.resize(static_cast<std::size_t>(3 * nv));
   std::vector<std::pair<int, int>> column;  // (new row vertex, block) of one block column
   for (int pv = 0; pv < nv; ++pv) {
-    const int j = p.fill_order[static_cast<std::size_t>(pv)];
+    const int j = order[static_cast<std::size_t>(pv)];
     column.clear();
     for (int b = p.col_start[static_cast<std::size_t>(j)];
          b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
@@ -53,20 +50,35 @@ void prepare_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
     std::sort(column.begin(), column.end());
     // Scalar columns 3pv + c: rows 3q + r of each block, upper triangle only.
     for (int c = 0; c < 3; ++c) {
-      ws.ldlt_dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
+      d.dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
       for (const auto& [q, b] : column) {
         for (int r = 0; r <= (q < pv ? 2 : c); ++r) {
-          ws.ldlt_row.push_back(3 * q + r);
-          ws.ldlt_source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
+          d.row.push_back(3 * q + r);
+          d.source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
         }
       }
-      ws.ldlt_col_start.push_back(static_cast<int>(ws.ldlt_row.size()));
+      d.col_start.push_back(static_cast<int>(d.row.size()));
     }
   }
-  ws.ldlt_values.assign(ws.ldlt_row.size(), 0.0);
-  ws.ldlt.analyze(3 * nv, ws.ldlt_col_start, ws.ldlt_row);
-  ws.ldlt_ready = true;
+  d.values.assign(d.row.size(), 0.0);
+  d.ldlt.analyze(3 * nv, d.col_start, d.row);
 }
+
+DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
+  DynamicsReport report;
+  report.iterations = 1;
+  const double* const base = blocks.data()->data();
+  for (std::size_t k = 0; k < d.values.size(); ++k) d.values[k] = base[d.source[k]];
+  if (const int col = d.ldlt.factorize(d.values); col >= 0) {
+    report.ok = false;
+    report.message = "LDLT pivot not positive at unknown " +
+                     std::to_string(d.dof[static_cast<std::size_t>(col)]) +
+                     " (system not positive definite or not finite)";
+  }
+  return report;
+}
+
+namespace {
 
 /// Adds c·H (element Hessian, n vertices) into the system blocks and h·(−g − (h + β)·H·v_e) into
 /// the right-hand side.
@@ -135,13 +147,16 @@ void assemble(const ClothModel& model, const ClothState& state, double h, const 
   }
 }
 
+}  // namespace
+
 /// The projector S onto a constraint's free directions: n·nᵀ for a free direction n, I − d·dᵀ
 /// for a fixed direction d, else 0.
 Mat3 free_projector(const VelocityConstraint& c) {
   if (c.fixed_direction.squaredNorm() > 0.0)
     return Mat3::Identity() - c.fixed_direction * c.fixed_direction.transpose();
-  return c.free_direction.squaredNorm() > 0.0 ? Mat3(c.free_direction * c.free_direction.transpose())
-                                              : Mat3(Mat3::Zero());
+  return c.free_direction.squaredNorm() > 0.0
+             ? Mat3(c.free_direction * c.free_direction.transpose())
+             : Mat3(Mat3::Zero());
 }
 
 /// Eliminates the constrained unknowns. With S_i the projector onto vertex i's free directions
@@ -159,7 +174,8 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
   for (const VelocityConstraint& c : constraints) {
     const auto i = static_cast<std::size_t>(c.vertex);
     for (int b = p.col_start[i]; b < p.col_start[i + 1]; ++b)
-      ws.saved_rows.push_back(ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])]);
+      ws.saved_rows.push_back(
+          ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])]);
     ws.saved_rhs.push_back(ws.rhs.segment<3>(3 * c.vertex));
   }
   for (const VelocityConstraint& c : constraints) {
@@ -187,6 +203,8 @@ void eliminate_constraints(const ClothModel& model, const ClothState& state,
   }
 }
 
+namespace {
+
 /// Fills `impulses` (|V|×3, zero for free vertices) with the impulse [N·s] each velocity
 /// constraint applied over the step: the residual A_i·Δv − b_i of its row as assembled.
 void constraint_impulses(const ClothModel& model, std::span<const VelocityConstraint> constraints,
@@ -207,26 +225,15 @@ void constraint_impulses(const ClothModel& model, std::span<const VelocityConstr
 
 /// Direct solve into ws.dv; returns the report.
 DynamicsReport solve_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
-  prepare_ldlt(model, ws);
-  DynamicsReport report;
-  report.iterations = 1;
-  // Gather the permuted upper triangle and factorise.
-  const double* const base = ws.blocks.data()->data();
-  for (std::size_t k = 0; k < ws.ldlt_values.size(); ++k)
-    ws.ldlt_values[k] = base[ws.ldlt_source[k]];
-  if (const int col = ws.ldlt.factorize(ws.ldlt_values); col >= 0) {
-    report.ok = false;
-    report.message = "LDLT pivot not positive at unknown " +
-                     std::to_string(ws.ldlt_dof[static_cast<std::size_t>(col)]) +
-                     " (system not positive definite or not finite)";
-    return report;
-  }
+  DirectSystem& d = ws.direct;
+  if (d.order.empty()) analyse(model.pattern, model.pattern.fill_order, d);
+  DynamicsReport report = factorise(ws.blocks, d);
+  if (!report.ok) return report;
   // Solve in the permuted order.
   const auto n = static_cast<std::size_t>(ws.rhs.size());
-  for (std::size_t k = 0; k < n; ++k)
-    ws.work[static_cast<Eigen::Index>(k)] = ws.rhs[ws.ldlt_dof[k]];
-  ws.ldlt.solve_in_place(std::span<double>(ws.work.data(), n));
-  for (std::size_t k = 0; k < n; ++k) ws.dv[ws.ldlt_dof[k]] = ws.work[static_cast<Eigen::Index>(k)];
+  for (std::size_t k = 0; k < n; ++k) ws.work[static_cast<Eigen::Index>(k)] = ws.rhs[d.dof[k]];
+  d.ldlt.solve_in_place(std::span<double>(ws.work.data(), n));
+  for (std::size_t k = 0; k < n; ++k) ws.dv[d.dof[k]] = ws.work[static_cast<Eigen::Index>(k)];
   return report;
 }
 
@@ -258,18 +265,51 @@ void demand_inputs(const ClothModel& model, const ClothState& state, double h,
   DEXCLOTH_DEMAND(model.solver.threads >= 1);
   DEXCLOTH_DEMAND(state.x.rows() == nv && state.v.rows() == nv && state.f_ext.rows() == nv);
   for (const VelocityConstraint& c : constraints)
-    DEXCLOTH_DEMAND(c.vertex >= 0 && c.vertex < nv &&
-                    (c.free_direction.squaredNorm() == 0.0 || c.fixed_direction.squaredNorm() == 0.0));
+    DEXCLOTH_DEMAND(
+        c.vertex >= 0 && c.vertex < nv &&
+        (c.free_direction.squaredNorm() == 0.0 || c.fixed_direction.squaredNorm() == 0.0));
 }
 
-/// Gradient of B·φ(‖w‖) in the slip w, φ the norm smoothed below ε (s²/2ε + ε/2 there): the
-/// friction impulse is its negative.
+/// Flags the active friction constraints (ws.active) and keeps their vertices among the
+/// vertices ordered last for the Schur complement (ws.schur_vertices, ws.schur_slot); returns
+/// how many distinct vertices have friction. The set changing means a new analysis of the
+/// factorisation, so vertices that lose their friction stay in it, as plain unknowns of the
+/// dense problem, until it holds twice the friction vertices (then it restarts from them).
+int schur_vertices(std::span<const FrictionConstraint> friction, DynamicsWorkspace& ws) {
+  const std::size_t nv = ws.held.size();
+  if (ws.schur_slot.size() != nv) {
+    ws.schur_slot.assign(nv, -1);
+    ws.schur_vertices.clear();
+  }
+  ws.active.assign(friction.size(), 0);
+  ws.schur_mark.assign(nv, 0);
+  int count = 0;
+  for (std::size_t k = 0; k < friction.size(); ++k) {
+    const auto v = static_cast<std::size_t>(friction[k].vertex);
+    if (ws.held[v]) continue;
+    ws.active[k] = 1;
+    if (!ws.schur_mark[v]) ++count;
+    ws.schur_mark[v] = 1;
+  }
+  if (static_cast<int>(ws.schur_vertices.size()) > 2 * count + 8) {
+    for (int v : ws.schur_vertices) ws.schur_slot[static_cast<std::size_t>(v)] = -1;
+    ws.schur_vertices.clear();
+  }
+  for (std::size_t k = 0; k < friction.size(); ++k) {
+    int& slot = ws.schur_slot[static_cast<std::size_t>(friction[k].vertex)];
+    if (!ws.active[k] || slot >= 0) continue;
+    slot = static_cast<int>(ws.schur_vertices.size());
+    ws.schur_vertices.push_back(friction[k].vertex);
+  }
+  return count;
+}
+
+}  // namespace
+
 Vec3 friction_gradient(const Vec3& w, double bound, double eps) {
   const double s = w.norm();
   return s < eps ? Vec3(bound / eps * w) : Vec3(bound / s * w);
 }
-
-}  // namespace
 
 void assemble_system(const ClothModel& model, const ClothState& state, double h,
                      const Vec3& gravity, std::span<const VelocityConstraint> constraints,
@@ -280,8 +320,8 @@ void assemble_system(const ClothModel& model, const ClothState& state, double h,
 }
 
 DynamicsReport solve_system(const ClothModel& model,
-                            std::span<const VelocityConstraint> constraints,
-                            DynamicsWorkspace& ws, double tolerance) {
+                            std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws,
+                            double tolerance) {
   DynamicsReport report;
   SolverSettings settings = model.solver;
   settings.tolerance = std::max(settings.tolerance, tolerance);
@@ -297,9 +337,9 @@ DynamicsReport solve_system(const ClothModel& model,
     // Warm start from the last Δv, with the constrained unknowns at their known values.
     for (const VelocityConstraint& c : constraints) {
       const Mat3 S = free_projector(c);
-      ws.dv.segment<3>(3 * c.vertex) = S * ws.dv.segment<3>(3 * c.vertex) +
-                                       (Mat3::Identity() - S) * ws.rhs.segment<3>(3 * c.vertex) /
-                                           model.mass[c.vertex];
+      ws.dv.segment<3>(3 * c.vertex) =
+          S * ws.dv.segment<3>(3 * c.vertex) +
+          (Mat3::Identity() - S) * ws.rhs.segment<3>(3 * c.vertex) / model.mass[c.vertex];
     }
     const PcgResult r = ws.pcg.solve(model.pattern, ws.blocks, ws.rhs, ws.dv, settings.tolerance,
                                      settings.max_iterations, settings.threads);
@@ -371,7 +411,9 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;
   const std::size_t nf = friction.size();
   const double eps = settings.stick_velocity;
-  const auto active = [&](std::size_t k) { return !ws.held[static_cast<std::size_t>(friction[k].vertex)]; };
+  const auto active = [&](std::size_t k) {
+    return !ws.held[static_cast<std::size_t>(friction[k].vertex)];
+  };
   // Squeezed vertices' normal velocities join the constraints (after `constraints`, whose
   // impulses are read back in order).
   ws.solve_constraints.assign(constraints.begin(), constraints.end());
@@ -382,20 +424,9 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   // Relative tangential velocity of friction vertex k at the velocity change `dv`.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
     const FrictionConstraint& f = friction[k];
-    const Vec3 w = state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
+    const Vec3 w =
+        state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
     return Vec3(w - f.normal.dot(w) * f.normal);
-  };
-  // The objective whose minimiser is the step: ½Δvᵀ A Δv − bᵀΔv + Σ B_k φ(‖w_k‖), φ the norm
-  // smoothed below ε (φ = s²/2ε + ε/2 there).
-  const auto objective = [&](const Eigen::VectorXd& dv) {
-    block_multiply(model.pattern, ws.base_blocks, dv, ws.work, model.solver.threads);
-    double e = 0.5 * dv.dot(ws.work) - ws.base_rhs.dot(dv);
-    for (std::size_t k = 0; k < nf; ++k) {
-      if (!active(k)) continue;
-      const double sl = slip(k, dv).norm();
-      e += friction[k].max_impulse * (sl < eps ? 0.5 * sl * sl / eps + 0.5 * eps : sl);
-    }
-    return e;
   };
 
   // Newton iterations from the last step's Δv (a warm start for the linear solves too; a vertex
@@ -407,68 +438,15 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
         S * ws.dv_iterate.segment<3>(3 * c.vertex) +
         (Mat3::Identity() - S) * (c.velocity - state.v.row(c.vertex).transpose());
   }
-  double e_current = objective(ws.dv_iterate);
   DynamicsReport report;
   outcome.iterations = 0;
-  // Far from the answer the Newton steps solve loosely (their direction only has to descend,
-  // and a PCG truncated from the iterate does); near it, to the solver's tolerance.
-  bool loose = true;
-  int accurate_solves = 0;
-  ws.last_slip.assign(nf, Vec3::Zero());
-  for (int it = 0; it <= settings.max_iterations; ++it) {
-    if (it == settings.max_iterations) {
-      if (!loose) break;
-      loose = false;  // the cap reached on loose solves: one accurate solve at the iterate
-    }
-    // Friction's gradient and Hessian at the iterate: B/ε·T sticking, B/s·(T − ŵŵᵀ) sliding.
-    ws.blocks = ws.base_blocks;
-    ws.rhs = ws.base_rhs;
-    for (std::size_t k = 0; k < nf; ++k) {
-      if (!active(k)) continue;
-      const FrictionConstraint& f = friction[k];
-      const Vec3 w = slip(k, ws.dv_iterate);
-      const double sl = w.norm();
-      const Mat3 T = Mat3::Identity() - f.normal * f.normal.transpose();
-      // Newton's Hessian has no curvature along a sliding vertex's slip, so far from the answer,
-      // where slips turn and reverse, its steps overshoot (line-search halvings, poor PCG warm
-      // starts: in a hand's pinch most steps ran out of iterations). The loose steps use the
-      // isotropic B/s·T of iteratively reweighted least squares instead, a majoriser whose full
-      // steps descend; the accurate steps use Newton's once a slip's direction has settled.
-      const bool settled = !loose && it > 0 &&
-                           ws.last_slip[k].dot(w) > kSettledCos * sl * ws.last_slip[k].norm();
-      ws.last_slip[k] = w;
-      const Mat3 H = sl < eps   ? Mat3(f.max_impulse / eps * T)
-                     : settled ? Mat3(f.max_impulse / sl * (T - w * w.transpose() / (sl * sl)))
-                               : Mat3(f.max_impulse / sl * T);
-      const Vec3 g = friction_gradient(w, f.max_impulse, eps);
-      ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(f.vertex)])] += H;
-      ws.rhs.segment<3>(3 * f.vertex) += H * ws.dv_iterate.segment<3>(3 * f.vertex) - g;
-    }
-    eliminate_constraints(model, state, ws.solve_constraints, ws);
-    ws.dv = ws.dv_iterate;  // warm start
-    report = solve_system(model, ws.solve_constraints, ws, loose ? settings.newton_tolerance : 0.0);
-    if (!report.ok) return report;
-    ++outcome.iterations;
-    if (!loose) ++accurate_solves;
-    // Backtracking line search on the objective (convex: the full step almost always decreases it).
-    ws.dv_step = ws.dv - ws.dv_iterate;
-    double alpha = 1.0, e_new = objective(ws.dv);
-    for (int halving = 0; halving < 20 && e_new > e_current; ++halving) {
-      alpha *= 0.5;
-      ws.dv = ws.dv_iterate + alpha * ws.dv_step;
-      e_new = objective(ws.dv);
-    }
-    const double moved = alpha * ws.dv_step.cwiseAbs().maxCoeff();
-    if (e_new <= e_current) {
-      ws.dv_iterate = ws.dv;
-      e_current = e_new;
-    }
-    // Converged: a step from an accurately solved iterate changed no velocity by tolerance·ε.
-    if (accurate_solves >= 2 && (moved < settings.tolerance * eps || e_new > e_current)) break;
-    // Near the answer (or stalled), the steps solve accurately.
-    if (moved < settings.accurate_below * eps || e_new > e_current) loose = false;
-  }
-  ws.dv = ws.dv_iterate;
+  outcome.seconds = 0.0;
+  const int friction_vertices = schur_vertices(friction, ws);
+  // Few friction vertices: their Schur complement; else Newton iterations over the cloth.
+  report = friction_vertices > 0 && friction_vertices <= settings.max_schur_vertices
+               ? solve_friction_schur(model, state, friction, settings, ws, outcome)
+               : solve_friction_newton(model, state, friction, settings, ws, outcome);
+  if (!report.ok) return report;
 
   // Outcome: sticking vertices move with their surface (the smoothing's creep below ε removed),
   // friction impulses −B·φ'(s)·ŵ.

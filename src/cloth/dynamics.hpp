@@ -15,8 +15,8 @@ namespace dexcloth::cloth {
 /// three directions; with a nonzero `free_direction`, in the plane orthogonal to it; with a
 /// nonzero `fixed_direction`, along that direction only.
 struct VelocityConstraint {
-  int vertex{};                 ///< vertex index in [0, |V|)
-  Vec3 velocity{Vec3::Zero()};  ///< prescribed velocity [m/s]
+  int vertex{};                        ///< vertex index in [0, |V|)
+  Vec3 velocity{Vec3::Zero()};         ///< prescribed velocity [m/s]
   Vec3 free_direction{Vec3::Zero()};   ///< unit direction left to the dynamics, or zero (none)
   Vec3 fixed_direction{Vec3::Zero()};  ///< the only prescribed unit direction, or zero
 };
@@ -28,11 +28,11 @@ struct VelocityConstraint {
 /// two surfaces: then it moves with them along the normal too (their contact forces, outside the
 /// solve, would stop any normal motion relative to them).
 struct FrictionConstraint {
-  int vertex{};                          ///< vertex index in [0, |V|)
-  Vec3 normal{Vec3::UnitZ()};            ///< unit contact normal (sign irrelevant)
-  Vec3 surface_velocity{Vec3::Zero()};   ///< velocity of the touching surface [m/s]
-  double max_impulse{};                  ///< μ·Σ fN·h, the friction impulse bound [N·s], ≥ 0
-  bool squeezed{false};                  ///< normal velocity prescribed: the surface's
+  int vertex{};                         ///< vertex index in [0, |V|)
+  Vec3 normal{Vec3::UnitZ()};           ///< unit contact normal (sign irrelevant)
+  Vec3 surface_velocity{Vec3::Zero()};  ///< velocity of the touching surface [m/s]
+  double max_impulse{};                 ///< μ·Σ fN·h, the friction impulse bound [N·s], ≥ 0
+  bool squeezed{false};                 ///< normal velocity prescribed: the surface's
 };
 
 /// How the friction of a solve is solved.
@@ -40,19 +40,27 @@ struct FrictionSettings {
   double stick_velocity{1e-4};  ///< ε: slip speeds below it count as sticking [m/s], > 0
   /// Newton iterations (each one linear solve), ≥ 1; one more, accurate, when all were loose.
   int max_iterations{12};
-  double tolerance{1.0};        ///< stop when no velocity changes by more than tolerance·ε
+  double tolerance{1.0};  ///< stop when no velocity changes by more than tolerance·ε
   /// Relative residual of the linear solves of Newton steps far from the answer [-].
   double newton_tolerance{1e-3};
   /// Once a step changes no velocity by more than accurate_below·ε (or the line search stalls),
   /// the solves are to the model's tolerance, and convergence needs two of them.
   double accurate_below{100.0};
+  /// Up to this many friction vertices, the friction is solved on their Schur complement in a
+  /// direct factorisation of the step (one factorisation, a dense problem of three unknowns per
+  /// vertex); with more, by the Newton iterations above, each a linear solve of the cloth.
+  int max_schur_vertices{200};
 };
 
 /// Outcome of the friction constraints of a solve, in their order.
 struct FrictionOutcome {
   std::vector<char> sticking;  ///< 1 = moves with its surface, 0 = sliding (or held elsewhere)
   std::vector<Vec3> impulse;   ///< friction impulse applied [N·s], zero when held elsewhere
-  int iterations{};            ///< Newton iterations (linear solves) taken
+  int iterations{};            ///< Newton iterations taken
+  int linear_solves{};         ///< linear solves of the cloth's system taken
+  /// Time spent on the friction beyond one linear solve of the step [s]: the Newton iterations'
+  /// further solves, or the Schur complement's ordering and dense problem.
+  double seconds{};
 };
 
 /// Outcome of a dynamics solve. A failed solve never aborts: ok = false and `message` says why.

@@ -10,6 +10,18 @@
 
 namespace dexcloth::cloth {
 
+/// A direct solver for the system: its upper triangle gathered in a vertex elimination order,
+/// and the factorisation.
+struct DirectSystem {
+  std::vector<int> order;      ///< vertex eliminated k-th (empty before the first analysis)
+  std::vector<int> col_start;  ///< 3|V|+1
+  std::vector<int> row;        ///< permuted row of each stored entry
+  std::vector<int> source;     ///< offset of each stored entry in the blocks (as doubles)
+  std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
+  std::vector<double> values;  ///< gathered values
+  SparseLdlt ldlt;
+};
+
 /// Buffers of solve_velocities (see dynamics.cpp). Sized for one model on the first step.
 struct DynamicsWorkspace {
   int num_vertices{-1};           ///< |V| the buffers are sized for; −1 before the first step
@@ -26,21 +38,67 @@ struct DynamicsWorkspace {
   std::vector<VelocityConstraint> all_constraints;
   std::vector<VelocityConstraint> solve_constraints;  ///< a friction solve's, squeezed normals too
   std::vector<Vec3> last_slip;  ///< each friction vertex's slip at the last Newton iterate
-  std::vector<char> held;  ///< |V| flags of vertices held by the caller's velocity constraints
-  Eigen::VectorXd dv_iterate;  ///< friction Newton: current iterate
-  Eigen::VectorXd dv_step;     ///< friction Newton: step to the next iterate
-  // Direct solver: the system's upper triangle in fill-reducing order.
-  bool ldlt_ready{false};
-  std::vector<int> ldlt_col_start;  ///< 3|V|+1
-  std::vector<int> ldlt_row;        ///< permuted row of each stored entry
-  std::vector<int> ldlt_source;     ///< offset of each stored entry in `blocks` (as doubles)
-  std::vector<int> ldlt_dof;        ///< permuted unknown k is original unknown ldlt_dof[k]
-  std::vector<double> ldlt_values;  ///< gathered values
-  SparseLdlt ldlt;
+  std::vector<char> held;       ///< |V| flags of vertices held by the caller's velocity constraints
+  std::vector<char> active;     ///< per friction constraint: 1 unless its vertex is held
+  Eigen::VectorXd dv_iterate;   ///< friction Newton: current iterate
+  Eigen::VectorXd dv_step;      ///< friction Newton: step to the next iterate
+  DirectSystem direct;          ///< the direct solver, in the pattern's fill-reducing order
+  /// Friction through a Schur complement: the direct solver with the friction vertices last.
+  DirectSystem schur;
+  std::vector<int>
+      schur_vertices;            ///< vertices ordered last: the friction vertices and recent ones
+  std::vector<int> schur_slot;   ///< |V|: position of a friction vertex in schur_vertices, or −1
+  std::vector<int> schur_order;  ///< the elimination order with them last
+  std::vector<char> schur_mark;  ///< |V| scratch: vertices with friction this step
+  Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton matrix
+  Eigen::VectorXd schur_D, schur_c, schur_x, schur_r, schur_step, schur_trial;
   // Iterative solver.
   bool pcg_ready{false};
   BlockPcg pcg;
 };
+
+/// Gathers the system's upper triangle in the vertex elimination `order` and analyses it.
+void analyse(const SystemPattern& pattern, std::span<const int> order, DirectSystem& d);
+
+/// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
+/// failed.
+DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d);
+
+/// A sliding vertex's slip has settled (Newton's Hessian is used) when it turned by less than
+/// acos(0.9) ≈ 26° since the last iteration.
+constexpr double kSettledCos = 0.9;
+
+/// The projector onto a velocity constraint's free directions.
+Mat3 free_projector(const VelocityConstraint& c);
+
+/// Eliminates the constrained unknowns from ws.blocks and ws.rhs (see dynamics.cpp).
+void eliminate_constraints(const ClothModel& model, const ClothState& state,
+                           std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws);
+
+/// Gradient of B·φ(‖w‖) in the slip w, φ the norm smoothed below ε (s²/2ε + ε/2 there): the
+/// friction impulse is its negative.
+Vec3 friction_gradient(const Vec3& w, double bound, double eps);
+
+/// Friction of solve_velocities through the Schur complement of the friction vertices (inputs
+/// as for solve_friction_newton): the system is factorised with the vertices of
+/// ws.schur_vertices last, the friction problem is solved on their Schur complement by Newton's
+/// method (reweighted least squares until a slip settles), and one back substitution gives the
+/// other velocities. Leaves Δv in ws.dv; outcome.seconds gets the time of the friction's own
+/// work (ordering, Schur complement, dense Newton), outcome.iterations its dense iterations.
+DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& state,
+                                    std::span<const FrictionConstraint> friction,
+                                    const FrictionSettings& settings, DynamicsWorkspace& ws,
+                                    FrictionOutcome& outcome);
+
+/// Friction of solve_velocities by Newton's method over the whole cloth, each iteration a
+/// linear solve (reweighted-least-squares steps while the solves are loose or a slip still
+/// turns), from ws.dv_iterate. The base system is in ws.base_blocks and ws.base_rhs, the
+/// constraints (squeezed normals too) in ws.solve_constraints, the active friction constraints
+/// flagged in ws.active. Leaves Δv in ws.dv; fills outcome.iterations, linear_solves, seconds.
+DynamicsReport solve_friction_newton(const ClothModel& model, const ClothState& state,
+                                     std::span<const FrictionConstraint> friction,
+                                     const FrictionSettings& settings, DynamicsWorkspace& ws,
+                                     FrictionOutcome& outcome);
 
 /// First half of solve_velocities: sizes `ws` for `model` (first step only) and assembles the
 /// implicit step's system A·Δv = b into ws.blocks and ws.rhs, with the constrained unknowns
@@ -53,7 +111,7 @@ void assemble_system(const ClothModel& model, const ClothState& state, double h,
 /// from the Δv already in ws.dv, or LDLT, per model.solver), PCG to the larger of the model's
 /// tolerance and `tolerance`. On failure ws.dv is zeroed.
 DynamicsReport solve_system(const ClothModel& model,
-                            std::span<const VelocityConstraint> constraints,
-                            DynamicsWorkspace& ws, double tolerance = 0.0);
+                            std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws,
+                            double tolerance = 0.0);
 
 }  // namespace dexcloth::cloth

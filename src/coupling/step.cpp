@@ -55,13 +55,13 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
 /// pinch then holds the load the whole cloth puts on it. The paper's per-vertex NCP after the
 /// solve sees only one vertex's share of a cloth that falls freely in the solve, so a strip
 /// slid out of a gripper at 1.5 N*; it still handles each contact's first step. Returns the
-/// seconds of the friction iterations beyond the first solve (interface time in Table 1; the
-/// share of a solve's time is proportional to its linear solves, assembly included).
+/// seconds the friction took beyond one solve of the cloth (interface time in Table 1).
 double cloth_dynamics(const WorldModel& model, WorldData& data) {
   double friction_seconds = 0.0;
   const bool bai_liu = model.mode == CouplingMode::bai_liu;
   InterfaceScratch& s = data.interface;
-  if (bai_liu) friction_constraints(static_cast<int>(model.cloths.size()), model.dt, kCoplanarDeg, data);
+  if (bai_liu)
+    friction_constraints(static_cast<int>(model.cloths.size()), model.dt, kCoplanarDeg, data);
   s.friction_state.resize(model.cloths.size());
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothBody& body = model.cloths[c];
@@ -76,12 +76,11 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
     solved.assign(static_cast<std::size_t>(state.x.rows()), 0);
     cloth::DynamicsReport report;
     if (bai_liu && !s.friction[c].empty()) {
-      Stopwatch clock;
       s.friction_outcome[c].impulse.clear();  // filled only by a successful solve
-      report = cloth::solve_velocities(body.model, state, model.dt, model.gravity,
-                                       data.scratch_constraints, s.friction[c], s.friction_outcome[c]);
-      const int n = std::max(1, s.friction_outcome[c].iterations);
-      friction_seconds += clock.lap() * (n - 1) / n;
+      report =
+          cloth::solve_velocities(body.model, state, model.dt, model.gravity,
+                                  data.scratch_constraints, s.friction[c], s.friction_outcome[c]);
+      friction_seconds += s.friction_outcome[c].seconds;
       if (report.ok)
         for (std::size_t k = 0; k < s.friction[c].size(); ++k)
           solved[static_cast<std::size_t>(s.friction[c][k].vertex)] =
@@ -170,7 +169,8 @@ void finish_cloth(const WorldModel& model, WorldData& data) {
 /// collision meshes for the next cloth step.
 void rigid_step(WorldData& data) {
   RigidSide& rigid = data.rigid;
-  for (control::BuiltBody& body : rigid.bodies) body.controllers.apply(*rigid.world, rigid.world->time());
+  for (control::BuiltBody& body : rigid.bodies)
+    body.controllers.apply(*rigid.world, rigid.world->time());
   rigid.world->step();
   rigid.world->export_obstacle_meshes(rigid.meshes);
 }

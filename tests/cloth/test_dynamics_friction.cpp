@@ -1,6 +1,7 @@
 // Coulomb friction inside the implicit step (solve_velocities with FrictionConstraint): partial
 // velocity constraints, the slide/stick threshold on an incline against g(sinθ − μcosθ), a
-// pinched strip held iff the friction bound covers its weight, and loose Newton steps.
+// pinched strip held iff the friction bound covers its weight, loose Newton steps, and the
+// Schur-complement solve against the Newton iterations.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,8 +37,7 @@ std::vector<FrictionConstraint> pinch_top_rows(double total) {
   std::vector<FrictionConstraint> friction;
   for (int j = kStripNy - 2; j < kStripNy; ++j)
     for (int i = 0; i < kStripNx; ++i)
-      friction.push_back({j * kStripNx + i, Vec3::UnitZ(), Vec3::Zero(),
-                          total / (2.0 * kStripNx)});
+      friction.push_back({j * kStripNx + i, Vec3::UnitZ(), Vec3::Zero(), total / (2.0 * kStripNx)});
   return friction;
 }
 
@@ -59,8 +59,8 @@ Incline slide_on_incline(LinearSolver solver, double mu, double theta, const Vec
   r.state = make_state(r.model, mesh.x);
   std::vector<FrictionConstraint> friction;
   for (int i = 0; i < r.model.num_vertices(); ++i)
-    friction.push_back({i, Vec3::UnitZ(), surface,
-                        mu * r.model.mass[i] * kG * std::cos(theta) * kStep, squeezed});
+    friction.push_back(
+        {i, Vec3::UnitZ(), surface, mu * r.model.mass[i] * kG * std::cos(theta) * kStep, squeezed});
   const Vec3 gravity(kG * std::sin(theta), 0.0, -kG * std::cos(theta));
   for (int s = 0; s < steps && r.ok; ++s) {
     r.ok = solve_velocities(r.model, r.state, kStep, gravity, {}, friction, r.outcome).ok;
@@ -197,6 +197,7 @@ TEST(DynamicsFriction, LooseNewtonStepsReachTheSameAnswer) {
     const std::vector<FrictionConstraint> friction =
         pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
     FrictionSettings settings;
+    settings.max_schur_vertices = 0;  // the Newton iterations, each a linear solve
     settings.newton_tolerance = newton_tolerance;
     settings.tolerance = stop;
     settings.max_iterations = 40;
@@ -215,4 +216,51 @@ TEST(DynamicsFriction, LooseNewtonStepsReachTheSameAnswer) {
   const double loose_error = (loose - reference).cwiseAbs().maxCoeff();
   EXPECT_LT(loose_error, 2.0 * accurate_error + 1e-9);
   EXPECT_GT(accurate.col(1).maxCoeff() - accurate.col(1).minCoeff(), 0.2);  // it hangs
+}
+
+TEST(DynamicsFriction, SchurComplementAndNewtonIterationsReachTheSameStep) {
+  // The two ways of solving the friction (on the friction vertices' Schur complement, or by
+  // Newton iterations over the whole cloth) minimise the same objective, so they must give the
+  // same velocities. The strip pinched at its top rows, bound just above its weight, swung
+  // sideways so its vertices change between sliding and sticking, two of them squeezed, its
+  // bottom corner led sideways by a handle. The Newton iterations are converged 100 times
+  // tighter than usual.
+  const ClothMesh mesh = strip_mesh();
+  const auto run = [&](int max_schur_vertices) {
+    ClothModel model = build_model(mesh, strip_material());
+    model.solver.linear_solver = LinearSolver::ldlt;
+    ClothState state = make_state(model, mesh.x);
+    std::vector<FrictionConstraint> friction = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
+    friction[0].squeezed = friction[1].squeezed = true;
+    const std::vector<VelocityConstraint> handle = {{0, Vec3(0.02, 0.0, 0.0)}};
+    FrictionSettings settings;
+    settings.max_schur_vertices = max_schur_vertices;
+    settings.tolerance = 0.01;
+    settings.max_iterations = 60;
+    FrictionOutcome outcome;
+    int stuck = 0, slid = 0, schur_solves = 0;
+    for (int s = 0; s < 100; ++s) {
+      const Vec3 gravity(s < 50 ? 3.0 : -3.0, -kG, 0.0);
+      EXPECT_TRUE(
+          solve_velocities(model, state, kStep, gravity, handle, friction, outcome, settings).ok);
+      advance_positions(state, kStep);
+      for (char c : outcome.sticking) {
+        if (c) {
+          ++stuck;
+        } else {
+          ++slid;
+        }
+      }
+      schur_solves += outcome.linear_solves == 1 ? 1 : 0;
+    }
+    EXPECT_GT(stuck, 0);
+    EXPECT_GT(slid, 0);
+    if (max_schur_vertices > 0) {
+      EXPECT_EQ(schur_solves, 100);  // one factorisation per step
+    }
+    return state.v;
+  };
+  const Points schur = run(200), newton = run(0);
+  EXPECT_LT((schur - newton).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_GT(schur.cwiseAbs().maxCoeff(), 0.01);
 }
