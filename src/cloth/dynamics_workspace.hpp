@@ -52,6 +52,11 @@ struct DynamicsWorkspace {
   std::vector<char> schur_mark;  ///< |V| scratch: vertices with friction this step
   Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton matrix
   Eigen::VectorXd schur_D, schur_c, schur_x, schur_r, schur_step, schur_trial;
+  // The Schur complement condensed on the slip coordinates (friction_schur.cpp).
+  std::vector<int> schur_fidx, schur_ridx, schur_slip_dofs, schur_yoff;
+  std::vector<Mat3> schur_frame;
+  Eigen::MatrixXd schur_Syy, schur_X;
+  Eigen::VectorXd schur_cy, schur_xr;
   // Iterative solver.
   bool pcg_ready{false};
   BlockPcg pcg;

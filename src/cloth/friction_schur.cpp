@@ -4,12 +4,16 @@
 // the friction vertices F. Ordered last in an LDLᵀ factorisation of A, their unknowns x satisfy
 // S·x = c + λ with S = L₂₂D₂L₂₂ᵀ the Schur complement of the other unknowns and c = L₂₂z₂ (z the
 // forward-substituted b), λ the friction impulses. So the whole friction problem is the small
-// dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), and one back substitution gives every other
-// velocity: the friction costs a dense problem of 3|F| unknowns instead of a linear solve of
-// the cloth per Newton iteration.
+// dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), condensed further on the slip coordinates
+// (two per vertex), and one back substitution gives every other velocity: the friction costs a
+// dense problem of about 2|F| unknowns instead of a linear solve of the cloth per Newton
+// iteration.
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "cloth/block_pcg.hpp"
@@ -65,26 +69,100 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   for (Eigen::Index k = 0; k < n; ++k) ws.work[k] = ws.rhs[d.dof[static_cast<std::size_t>(k)]];
   d.ldlt.forward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)));
 
-  // The friction problem on the Schur complement.
+  // The friction problem on the Schur complement: min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k‖).
   start = Clock::now();
   d.ldlt.trailing_factor(static_cast<int>(m), ws.schur_L, ws.schur_D);
-  ws.schur_S.noalias() = ws.schur_L * ws.schur_D.asDiagonal() * ws.schur_L.transpose();
-  ws.schur_c.noalias() = ws.schur_L * ws.work.tail(m);
-  ws.schur_x.resize(m);
+  // S = L₂₂D₂L₂₂ᵀ = M·Mᵀ with M = L₂₂D₂^½ (the pivots are positive), a symmetric rank update;
+  // c = L₂₂z₂ = M·D₂^-½z₂.
+  ws.schur_D = ws.schur_D.cwiseSqrt();
+  ws.schur_L = ws.schur_L * ws.schur_D.asDiagonal();
+  ws.schur_S.setZero(m, m);
+  ws.schur_S.selfadjointView<Eigen::Lower>().rankUpdate(ws.schur_L);
+  ws.schur_S.triangularView<Eigen::StrictlyUpper>() = ws.schur_S.transpose();
+  ws.schur_c.noalias() = ws.schur_L * ws.work.tail(m).cwiseQuotient(ws.schur_D);
+  // Only the slip directions are nonlinear: in each tail vertex's frame R (tangents first when
+  // its contact planes agree, else all three axes; none without friction) the unknowns split
+  // into slip coordinates y and the rest r, and r is eliminated exactly once. Newton's method
+  // then works on the p slip coordinates alone.
+  std::vector<int>& fidx = ws.schur_fidx;
+  std::vector<int>& ridx = ws.schur_ridx;
+  std::vector<Mat3>& frame = ws.schur_frame;
+  std::vector<int>& slip_dofs = ws.schur_slip_dofs;  // per tail vertex: 0, 2 or 3
+  frame.assign(F.size(), Mat3::Identity());
+  slip_dofs.assign(F.size(), 0);
+  std::vector<Vec3>& plane = ws.last_slip;  // scratch: one normal per tail vertex
+  plane.assign(F.size(), Vec3::Zero());
+  for (std::size_t k = 0; k < friction.size(); ++k) {
+    if (!active[k]) continue;
+    const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(friction[k].vertex)]);
+    const Vec3& n = friction[k].normal;
+    if (slip_dofs[a] == 0) {
+      slip_dofs[a] = 2;
+      plane[a] = n;
+    } else if (slip_dofs[a] == 2 && std::abs(plane[a].dot(n)) < 1.0 - 1e-12) {
+      slip_dofs[a] = 3;
+    }
+  }
+  fidx.clear();
+  ridx.clear();
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    if (slip_dofs[a] == 2) {
+      const Vec3 n = plane[a];
+      const Vec3 t1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+      frame[a].col(0) = t1;
+      frame[a].col(1) = n.cross(t1);
+      frame[a].col(2) = n;
+    }
+    for (int c = 0; c < 3; ++c)
+      (c < slip_dofs[a] ? fidx : ridx).push_back(3 * static_cast<int>(a) + c);
+  }
+  // S and c in the frames (block-diagonal rotation B: BᵀSB, Bᵀc).
+  for (std::size_t b = 0; b < F.size(); ++b) {
+    const auto col = static_cast<Eigen::Index>(3 * b);
+    ws.schur_S.middleCols(col, 3) = (ws.schur_S.middleCols(col, 3) * frame[b]).eval();
+  }
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    const auto row = static_cast<Eigen::Index>(3 * a);
+    ws.schur_S.middleRows(row, 3) = (frame[a].transpose() * ws.schur_S.middleRows(row, 3)).eval();
+    ws.schur_c.segment<3>(row) = frame[a].transpose() * ws.schur_c.segment<3>(row);
+  }
+  const auto p = static_cast<Eigen::Index>(fidx.size());
+  const auto q = static_cast<Eigen::Index>(ridx.size());
+  // Condensed: Sc = S_yy − S_yr·S_rr⁻¹·S_ry, cc = c_y − S_yr·S_rr⁻¹·c_r.
+  ws.schur_Syy = ws.schur_S(fidx, fidx);
+  ws.schur_cy = ws.schur_c(fidx);
+  Eigen::LLT<Eigen::MatrixXd> rest;
+  if (q > 0) {
+    rest.compute(ws.schur_S(ridx, ridx));
+    ws.schur_X = rest.solve(ws.schur_S(ridx, fidx));  // S_rr⁻¹·S_ry
+    ws.schur_xr = rest.solve(ws.schur_c(ridx));       // S_rr⁻¹·c_r
+    ws.schur_Syy.noalias() -= ws.schur_S(fidx, ridx) * ws.schur_X;
+    ws.schur_cy.noalias() -= ws.schur_S(fidx, ridx) * ws.schur_xr;
+  }
+  // Per constraint: offset of its vertex's slip coordinates in y and their axes.
+  std::vector<int>& yoff = ws.schur_yoff;  // per tail vertex
+  yoff.assign(F.size(), 0);
+  for (std::size_t a = 0, o = 0; a < F.size(); o += static_cast<std::size_t>(slip_dofs[a]), ++a)
+    yoff[a] = static_cast<int>(o);
+  const auto axes = [&](std::size_t a) { return frame[a].leftCols(slip_dofs[a]); };
+  // Warm start: the last step's Δv in the frames.
+  ws.schur_x.resize(p);
   for (std::size_t a = 0; a < F.size(); ++a)
-    ws.schur_x.segment<3>(3 * static_cast<Eigen::Index>(a)) = ws.dv_iterate.segment<3>(3 * F[a]);
-  // Slip of friction constraint k at the tail unknowns x.
-  const auto slip = [&](std::size_t k, const Eigen::VectorXd& x) {
+    ws.schur_x.segment(yoff[a], slip_dofs[a]) =
+        axes(a).transpose() * ws.dv_iterate.segment<3>(3 * F[a]);
+  // Slip of friction constraint k at the slip coordinates y.
+  const auto slip = [&](std::size_t k, const Eigen::VectorXd& y) {
     const FrictionConstraint& f = friction[k];
-    const auto a = static_cast<Eigen::Index>(slot[static_cast<std::size_t>(f.vertex)]);
-    const Vec3 w = state.v.row(f.vertex).transpose() + x.segment<3>(3 * a) - f.surface_velocity;
+    const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(f.vertex)]);
+    const Vec3 w = state.v.row(f.vertex).transpose() - f.surface_velocity +
+                   axes(a) * y.segment(yoff[a], slip_dofs[a]);
     return Vec3(w - f.normal.dot(w) * f.normal);
   };
-  const auto objective = [&](const Eigen::VectorXd& x) {
-    double e = 0.5 * x.dot(ws.schur_S * x) - ws.schur_c.dot(x);
+  const auto objective = [&](const Eigen::VectorXd& y) {
+    double e = 0.5 * y.dot(ws.schur_Syy * y) - ws.schur_cy.dot(y);
     for (std::size_t k = 0; k < friction.size(); ++k) {
       if (!active[k]) continue;
-      const double s = slip(k, x).norm();
+      const double s = slip(k, y).norm();
       e += friction[k].max_impulse * (s < eps ? 0.5 * s * s / eps + 0.5 * eps : s);
     }
     return e;
@@ -94,8 +172,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   double e_current = objective(ws.schur_x);
   const int max_iterations = 20 * settings.max_iterations;
   for (; iterations < max_iterations;) {
-    ws.schur_K = ws.schur_S;
-    ws.schur_r.noalias() = ws.schur_c - ws.schur_S * ws.schur_x;
+    ws.schur_K = ws.schur_Syy;
+    ws.schur_r.noalias() = ws.schur_cy - ws.schur_Syy * ws.schur_x;
     for (std::size_t k = 0; k < friction.size(); ++k) {
       if (!active[k]) continue;
       const FrictionConstraint& f = friction[k];
@@ -108,12 +186,13 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
       const Mat3 H = s < eps   ? Mat3(f.max_impulse / eps * T)
                      : settled ? Mat3(f.max_impulse / s * (T - w * w.transpose() / (s * s)))
                                : Mat3(f.max_impulse / s * T);
-      const auto a = static_cast<Eigen::Index>(slot[static_cast<std::size_t>(f.vertex)]);
-      ws.schur_K.block<3, 3>(3 * a, 3 * a) += H;
-      ws.schur_r.segment<3>(3 * a) -= friction_gradient(w, f.max_impulse, eps);
+      const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(f.vertex)]);
+      const int o = yoff[a], nd = slip_dofs[a];
+      ws.schur_K.block(o, o, nd, nd) += axes(a).transpose() * H * axes(a);
+      ws.schur_r.segment(o, nd) -= axes(a).transpose() * friction_gradient(w, f.max_impulse, eps);
     }
     const Eigen::LLT<Eigen::MatrixXd> llt(ws.schur_K);
-    if (llt.info() != Eigen::Success) break;  // not expected: S is SPD, the H are PSD
+    if (llt.info() != Eigen::Success) break;  // not expected: Sc is SPD, the H are PSD
     ws.schur_step = llt.solve(ws.schur_r);
     ++iterations;
     double alpha = 1.0;
@@ -131,10 +210,17 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     // step far below ε still leaves a large impulse residual.
     if (alpha * ws.schur_step.cwiseAbs().maxCoeff() < 1e-8 * eps) break;
   }
+  // The tail: y, the rest r = S_rr⁻¹·(c_r − S_ry·y), back from the frames.
+  ws.schur_c.setZero();  // reused for the tail in the frames
+  ws.schur_c(fidx) = ws.schur_x;
+  if (q > 0) ws.schur_c(ridx) = ws.schur_xr - ws.schur_X * ws.schur_x;
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    const auto row = static_cast<Eigen::Index>(3 * a);
+    ws.work.segment<3>(n - m + row) = frame[a] * ws.schur_c.segment<3>(row);
+  }
   seconds += since(start);
 
   // Back substitution: every other velocity from the friction vertices'.
-  ws.work.tail(m) = ws.schur_x;
   d.ldlt.backward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)),
                            static_cast<int>(m));
   for (Eigen::Index k = 0; k < n; ++k) ws.dv[d.dof[static_cast<std::size_t>(k)]] = ws.work[k];

@@ -37,9 +37,9 @@ void SparseLdlt::analyze(int n, std::span<const int> col_start, std::span<const 
   }
   for (std::size_t k = 0; k < un; ++k) m_Lp[k + 1] = m_Lp[k] + m_Lnz[k];
 
-  // Numeric buffers.
-  m_Li.assign(static_cast<std::size_t>(m_Lp[un]), 0);
-  m_Lx.assign(static_cast<std::size_t>(m_Lp[un]), 0.0);
+  // Numeric buffers (factorize writes every entry of L before reading it).
+  m_Li.resize(static_cast<std::size_t>(m_Lp[un]));
+  m_Lx.resize(static_cast<std::size_t>(m_Lp[un]));
   m_D.assign(un, 0.0);
   m_y.assign(un, 0.0);
   m_pattern.assign(un, 0);
