@@ -47,8 +47,7 @@ void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d
       const int q = new_of[static_cast<std::size_t>(p.row[static_cast<std::size_t>(b)])];
       if (q <= pv) column.emplace_back(q, b);
     }
-    std::sort(column.begin(), column.end());
-    // Scalar columns 3pv + c: rows 3q + r of each block, upper triangle only.
+    // Scalar columns (in any row order: the factorisation does not need them sorted) 3pv + c: rows 3q + r of each block, upper triangle only.
     for (int c = 0; c < 3; ++c) {
       d.dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
       for (const auto& [q, b] : column) {
@@ -61,7 +60,7 @@ void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d
     }
   }
   d.values.assign(d.row.size(), 0.0);
-  d.ldlt.analyze(3 * nv, d.col_start, d.row);
+  d.ldlt.analyze(3 * nv, d.col_start, d.row, 3);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {

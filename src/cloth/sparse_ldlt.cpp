@@ -6,34 +6,64 @@
 
 namespace dexcloth::cloth {
 
-void SparseLdlt::analyze(int n, std::span<const int> col_start, std::span<const int> row) {
+namespace {
+
+/// Elimination tree and column counts of L for the upper-triangle pattern (col_start, row) of
+/// an n×n matrix: row k of L is the set of nodes reachable in the tree from the nonzeros
+/// A(i, k), i < k. `stride` > 1 reads only the rows that are multiples of it, divided by it.
+void etree_and_counts(int n, const int* col_start, const int* row, int column_step, int stride,
+                      std::vector<int>& parent, std::vector<int>& count, std::vector<int>& flag) {
+  const auto un = static_cast<std::size_t>(n);
+  parent.assign(un, -1);
+  count.assign(un, 0);
+  flag.assign(un, -1);
+  for (int k = 0; k < n; ++k) {
+    flag[static_cast<std::size_t>(k)] = k;
+    const int column = column_step * k + column_step - 1;
+    for (int p = col_start[column]; p < col_start[column + 1]; ++p) {
+      if (row[p] % stride != 0) continue;
+      int i = row[p] / stride;
+      DEXCLOTH_DEMAND(i >= 0 && i <= k);
+      for (; flag[static_cast<std::size_t>(i)] != k; i = parent[static_cast<std::size_t>(i)]) {
+        if (parent[static_cast<std::size_t>(i)] == -1) parent[static_cast<std::size_t>(i)] = k;
+        ++count[static_cast<std::size_t>(i)];
+        flag[static_cast<std::size_t>(i)] = k;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void SparseLdlt::analyze(int n, std::span<const int> col_start, std::span<const int> row,
+                         int block) {
   DEXCLOTH_DEMAND(n >= 0 && col_start.size() == static_cast<std::size_t>(n) + 1);
   DEXCLOTH_DEMAND(row.size() == static_cast<std::size_t>(col_start[static_cast<std::size_t>(n)]));
+  DEXCLOTH_DEMAND((block == 1 || block == 3) && n % block == 0);
   const auto un = static_cast<std::size_t>(n);
   m_n = n;
   m_Ap.assign(col_start.begin(), col_start.end());
   m_Ai.assign(row.begin(), row.end());
-  m_parent.assign(un, -1);
-  m_Lnz.assign(un, 0);
-  m_flag.assign(un, -1);
   m_Lp.assign(un + 1, 0);
-  int* const parent = m_parent.data();
-  int* const Lnz = m_Lnz.data();
-  int* const flag = m_flag.data();
-
-  // Elimination tree and column counts of L: row k of L is the set of nodes reachable in the
-  // tree from the nonzeros A(i, k), i < k.
-  for (int k = 0; k < n; ++k) {
-    flag[k] = k;
-    for (int p = m_Ap[k]; p < m_Ap[k + 1]; ++p) {
-      int i = m_Ai[p];
-      DEXCLOTH_DEMAND(i >= 0 && i <= k);
-      for (; flag[i] != k; i = parent[i]) {
-        if (parent[i] == -1) parent[i] = k;
-        ++Lnz[i];
-        flag[i] = k;
+  if (block == 1) {
+    etree_and_counts(n, m_Ap.data(), m_Ai.data(), 1, 1, m_parent, m_Lnz, m_flag);
+  } else {
+    // The last column of a vertex holds every block row of its block column once per row of
+    // the block; the rows 3q stand for block q. Within a vertex the unknowns chain (3v → 3v+1
+    // → 3v+2), and 3v+2 hangs under the first unknown of the vertex's block parent.
+    std::vector<int> block_parent, block_count;
+    etree_and_counts(n / 3, m_Ap.data(), m_Ai.data(), 3, 3, block_parent, block_count, m_flag);
+    m_parent.assign(un, -1);
+    m_Lnz.assign(un, 0);
+    for (int v = 0; v < n / 3; ++v) {
+      const int P = block_parent[static_cast<std::size_t>(v)];
+      for (int c = 0; c < 3; ++c) {
+        const auto k = static_cast<std::size_t>(3 * v + c);
+        m_parent[k] = c < 2 ? 3 * v + c + 1 : (P < 0 ? -1 : 3 * P);
+        m_Lnz[k] = (2 - c) + 3 * block_count[static_cast<std::size_t>(v)];
       }
     }
+    m_flag.assign(un, -1);
   }
   for (std::size_t k = 0; k < un; ++k) m_Lp[k + 1] = m_Lp[k] + m_Lnz[k];
 

@@ -16,7 +16,10 @@ class SparseLdlt {
  public:
   /// Symbolic analysis of the pattern: `col_start` (n+1) and `row` (one entry per stored
   /// value, row ≤ column). Allocates every buffer the factorisation needs.
-  void analyze(int n, std::span<const int> col_start, std::span<const int> row);
+  /// With `block` = 3 the pattern must consist of dense 3×3 blocks (unknowns 3v..3v+2 of a
+  /// vertex v, upper triangle of the diagonal blocks): the elimination tree and column counts
+  /// then come from the block pattern, nine times smaller.
+  void analyze(int n, std::span<const int> col_start, std::span<const int> row, int block = 1);
 
   /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on success,
   /// else the first column whose pivot is not positive and finite (matrix not SPD or NaN).
