@@ -72,8 +72,8 @@ bool try_static_at(const Problem& p, int k, FrictionResult& r) {
   if (need > static_capacity * (1.0 + 1e-12) + 1e-14 * force_scale(p)) return false;
   for (int i = 0; i < p.count; ++i)
     if (r.sticking[i])
-      r.force[i] = static_capacity > 0.0 ? Vec3(remainder * (p.c[i] / static_capacity))
-                                         : Vec3::Zero();
+      r.force[i] =
+          static_capacity > 0.0 ? Vec3(remainder * (p.c[i] / static_capacity)) : Vec3::Zero();
   r.delta_v = dv;
   r.which = FrictionCase::static_at;
   r.anchor = k;
@@ -113,7 +113,8 @@ void solve_general(std::span<const FrictionContact> contacts, double a, const Ma
 /// Candidate "all dynamic": minimise ½a‖Δv‖² + Σ c_i‖u_i + Δv‖, valid when no relative velocity
 /// ends at zero (then every force is −c_i ŵ_i). Newton alone can stall near a kink it does not
 /// end at, so it starts from the block Gauss–Seidel answer and only polishes it.
-bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts, FrictionResult& r) {
+bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts,
+                     FrictionResult& r) {
   // Gradient of the objective in the plane, and its Hessian; false at a kink (a contact sticks).
   const auto gradient = [&](const Vec3& dv, Vec3& g, Mat3* H) {
     g = p.a * dv;
@@ -172,6 +173,110 @@ bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts
   return true;
 }
 
+/// Non-parallel planes, candidate "static at k": Δv on the line P_k(u_k + Δv) = 0, i.e.
+/// Δv = −P_k·u_k + t·n_k, with t minimising the convex ½a‖Δv‖² + Σ_{j≠k} c_j‖P_j(u_j + Δv)‖
+/// (its derivative is increasing: bisection). The other contacts slide; contact k takes the rest
+/// of aΔv, in its plane by the optimality in t. `u` are the full relative velocities.
+bool try_general_static_at(std::span<const FrictionContact> contacts, double a, const double* c,
+                           const Mat3* P, double speed_eps, int k, FrictionResult& r) {
+  const int m = static_cast<int>(contacts.size());
+  const Vec3 n = contacts[static_cast<std::size_t>(k)].normal.normalized();
+  const Vec3 base = -(P[k] * contacts[static_cast<std::size_t>(k)].relative_velocity);
+  const auto slope = [&](double t) {
+    const Vec3 dv = base + t * n;
+    double d = a * t;
+    for (int j = 0; j < m; ++j) {
+      if (j == k) continue;
+      const Vec3 w = P[j] * (contacts[static_cast<std::size_t>(j)].relative_velocity + dv);
+      const double s = w.norm();
+      if (s > 0.0) d += c[j] * (P[j] * n).dot(w) / s;
+    }
+    return d;
+  };
+  double bound = 0.0;
+  for (int j = 0; j < m; ++j) bound += j == k ? 0.0 : c[j];
+  double lo = -bound / a - 1e-300, hi = bound / a + 1e-300;
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * (hi - lo + std::abs(lo) + std::abs(hi)); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (slope(mid) > 0.0 ? hi : lo) = mid;
+  }
+  const Vec3 dv = base + 0.5 * (lo + hi) * n;
+  Vec3 rest = a * dv;
+  for (int j = 0; j < m; ++j) {
+    r.sticking[static_cast<std::size_t>(j)] = j == k;
+    if (j == k) continue;
+    const Vec3 w = P[j] * (contacts[static_cast<std::size_t>(j)].relative_velocity + dv);
+    const double s = w.norm();
+    if (c[j] > 0.0 && s <= speed_eps) return false;  // a second contact ends stuck
+    r.force[static_cast<std::size_t>(j)] = s > 0.0 ? Vec3(-c[j] * w / s) : Vec3::Zero();
+    rest -= r.force[static_cast<std::size_t>(j)];
+  }
+  r.force[static_cast<std::size_t>(k)] = P[k] * rest;
+  r.delta_v = dv;
+  r.anchor = k;
+  return rest.norm() <= c[k] * (1.0 + 1e-12);
+}
+
+/// Non-parallel planes, candidate "all dynamic": Newton in 3-D on ½a‖Δv‖² + Σ c_i‖P_i(u_i + Δv)‖
+/// from `start`, valid when no contact ends stuck.
+bool try_general_dynamic(std::span<const FrictionContact> contacts, double a, const double* c,
+                         const Mat3* P, double speed_eps, const Vec3& start, FrictionResult& r) {
+  const int m = static_cast<int>(contacts.size());
+  const auto slip = [&](int i, const Vec3& dv) {
+    return Vec3(P[i] * (contacts[static_cast<std::size_t>(i)].relative_velocity + dv));
+  };
+  const auto objective = [&](const Vec3& dv) {
+    double f = 0.5 * a * dv.squaredNorm();
+    for (int i = 0; i < m; ++i) f += c[i] * slip(i, dv).norm();
+    return f;
+  };
+  // Gradient (and Hessian); false at a kink.
+  const auto gradient = [&](const Vec3& dv, Vec3& g, Mat3* H) {
+    g = a * dv;
+    if (H) *H = a * Mat3::Identity();
+    for (int i = 0; i < m; ++i) {
+      if (c[i] <= 0.0) continue;
+      const Vec3 w = slip(i, dv);
+      const double s = w.norm();
+      if (s <= speed_eps) return false;
+      g += c[i] * w / s;
+      if (H) *H += (c[i] / s) * (P[i] - w * w.transpose() / (s * s));
+    }
+    return true;
+  };
+  Vec3 dv = start, g;
+  Mat3 H;
+  double scale = 1e-300;
+  for (int i = 0; i < m; ++i) scale = std::max(scale, c[i]);
+  for (int iter = 0; iter < 50; ++iter) {
+    if (!gradient(dv, g, &H)) return false;
+    if (g.norm() <= 1e-15 * scale) break;
+    const Vec3 step = -H.ldlt().solve(g);
+    const double f0 = objective(dv), g0 = g.norm();
+    double t = 1.0;
+    for (; t > 1e-12; t *= 0.5) {
+      Vec3 g_new;
+      const Vec3 trial = dv + t * step;
+      if (!gradient(trial, g_new, nullptr)) continue;
+      const double f = objective(trial);
+      const bool resolvable = std::abs(f - f0) > 1e-13 * std::abs(f0);
+      if (resolvable ? f <= f0 + 1e-4 * t * g.dot(step) : g_new.norm() < (1.0 - 1e-4 * t) * g0)
+        break;
+    }
+    if (t <= 1e-12) break;
+    dv += t * step;
+  }
+  if (!gradient(dv, g, nullptr)) return false;
+  for (int i = 0; i < m; ++i) {
+    const Vec3 w = slip(i, dv);
+    const double s = w.norm();
+    r.force[static_cast<std::size_t>(i)] = s > 0.0 ? Vec3(-c[i] * w / s) : Vec3::Zero();
+    r.sticking[static_cast<std::size_t>(i)] = false;
+  }
+  r.delta_v = dv;
+  return true;
+}
+
 }  // namespace
 
 FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h,
@@ -197,7 +302,44 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
   if (capacity <= 0.0) return r;  // no friction: fT = 0
 
   if (!parallel) {
+    // Candidates in 3-D, as for parallel planes: static at k by the paper's heuristic, then all
+    // dynamic from the block Gauss–Seidel answer, each checked; else that answer.
+    std::array<Mat3, kMaxVertexContacts> P;
+    std::array<int, kMaxVertexContacts> order{};
+    std::array<double, kMaxVertexContacts> margin{};
+    for (int i = 0; i < p.count; ++i) {
+      P[static_cast<std::size_t>(i)] =
+          tangent_projector(contacts[static_cast<std::size_t>(i)].normal);
+      margin[i] = p.c[i] - p.a * (P[static_cast<std::size_t>(i)] *
+                                  contacts[static_cast<std::size_t>(i)].relative_velocity)
+                                     .norm();
+      int j = i;
+      for (; j > 0 && margin[order[j - 1]] < margin[i]; --j) order[j] = order[j - 1];
+      order[j] = i;
+    }
     solve_general(contacts, p.a, nullptr, r);
+    const double scale = force_scale(p);
+    const auto passes = [&](const FrictionResult& candidate) {
+      return friction_violation(contacts, mass, h, candidate, coplanar_sin) <= 1e-9 * scale;
+    };
+    bool found = passes(r);
+    for (int k = 0; k < p.count && !found; ++k) {
+      if (p.c[order[k]] <= 0.0) continue;
+      FrictionResult candidate;
+      if (try_general_static_at(contacts, p.a, p.c.data(), P.data(), p.speed_eps, order[k],
+                                candidate) &&
+          passes(candidate)) {
+        r = candidate;
+        found = true;
+      }
+    }
+    FrictionResult candidate;
+    if (!found &&
+        try_general_dynamic(contacts, p.a, p.c.data(), P.data(), p.speed_eps, r.delta_v,
+                            candidate) &&
+        passes(candidate))
+      r = candidate;
+    r.which = FrictionCase::general;
   } else {
     // Static candidates, most likely first by the paper's heuristic μ‖fN‖ − m‖v_r‖/h (eq. 7).
     std::array<int, kMaxVertexContacts> order{};
@@ -248,7 +390,8 @@ double friction_violation(std::span<const FrictionContact> contacts, double mass
     // Cone, complementarity (as a force), and a sliding force opposing the sliding.
     worst = std::max(worst, fn - c);
     worst = std::max(worst, std::abs(c - fn) * std::min(1.0, a * w.norm() / (c + 1e-300)));
-    if (a * w.norm() > 1e-9 * (c + 1e-300)) worst = std::max(worst, (f + c * w.normalized()).norm());
+    if (a * w.norm() > 1e-9 * (c + 1e-300))
+      worst = std::max(worst, (f + c * w.normalized()).norm());
     worst = std::max(worst, std::abs(f.dot(normal)));
   }
   return std::max(worst, (a * r.delta_v - sum).norm());

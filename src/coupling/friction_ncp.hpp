@@ -19,29 +19,29 @@ inline constexpr int kMaxVertexContacts = 8;
 
 /// One contact of a cloth vertex.
 struct FrictionContact {
-  Vec3 normal{Vec3::UnitZ()};             ///< unit contact normal (its sign does not matter)
-  double normal_force{};                  ///< ‖fN‖ [N], ≥ 0
-  double mu{};                            ///< Coulomb coefficient [-], ≥ 0
-  Vec3 relative_velocity{Vec3::Zero()};   ///< vertex velocity minus surface velocity [m/s]
+  Vec3 normal{Vec3::UnitZ()};            ///< unit contact normal (its sign does not matter)
+  double normal_force{};                 ///< ‖fN‖ [N], ≥ 0
+  double mu{};                           ///< Coulomb coefficient [-], ≥ 0
+  Vec3 relative_velocity{Vec3::Zero()};  ///< vertex velocity minus surface velocity [m/s]
 };
 
 /// Which case of the enumeration produced the answer.
 enum class FrictionCase {
-  none,          ///< no friction capacity (all fN or μ zero): fT = 0
-  static_at,     ///< the vertex sticks to contact `anchor` (and to contacts moving with it)
-  all_dynamic,   ///< every contact slides
-  general,       ///< non-parallel contact planes: block Gauss–Seidel on the convex problem
+  none,         ///< no friction capacity (all fN or μ zero): fT = 0
+  static_at,    ///< the vertex sticks to contact `anchor` (and to contacts moving with it)
+  all_dynamic,  ///< every contact slides
+  general,      ///< non-parallel contact planes: 3-D candidates, else block Gauss–Seidel
 };
 
 struct FrictionResult {
   FrictionResult() { force.fill(Vec3::Zero()); }
-  std::array<Vec3, kMaxVertexContacts> force;        ///< fT_i [N]
-  std::array<bool, kMaxVertexContacts> sticking{};   ///< next relative tangential velocity zero
-  Vec3 delta_v{Vec3::Zero()};  ///< h Σ fT_j / m [m/s]: ṽ = v̄ + delta_v
+  std::array<Vec3, kMaxVertexContacts> force;       ///< fT_i [N]
+  std::array<bool, kMaxVertexContacts> sticking{};  ///< next relative tangential velocity zero
+  Vec3 delta_v{Vec3::Zero()};                       ///< h Σ fT_j / m [m/s]: ṽ = v̄ + delta_v
   FrictionCase which{FrictionCase::none};
-  int anchor{-1};              ///< contact the vertex sticks to (static_at)
-  bool ok{true};               ///< every condition verified to tolerance
-  double violation{};          ///< friction_violation relative to the problem's force scale
+  int anchor{-1};      ///< contact the vertex sticks to (static_at)
+  bool ok{true};       ///< every condition verified to tolerance
+  double violation{};  ///< friction_violation relative to the problem's force scale
 };
 
 /// Normals closer than this (|n_i × n_0|) are parallel to rounding.
@@ -52,8 +52,10 @@ inline constexpr double kParallelSin = 1e-6;
 /// kParallelSin)) share one plane, that of their sign-aligned mean normal, and are solved
 /// exactly by case enumeration: "static at k" for each k, ordered by the paper's heuristic
 /// μ‖fN‖ − m‖v_r‖/h, then "all dynamic" (Newton on the smooth convex function); each candidate is
-/// checked against the cone and complementarity before it is taken. Other configurations use block
-/// Gauss–Seidel on the dual, then the same check.
+/// checked against the cone and complementarity before it is taken. Other configurations try the
+/// same candidates in 3-D ("static at k": Δv on the line that stops contact k, placed along n_k
+/// by a 1-D minimisation; "all dynamic": Newton), after block Gauss–Seidel on the dual, whose
+/// answer stays when no candidate passes the check.
 FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h,
                               double coplanar_sin = 0.0);
 
