@@ -23,7 +23,7 @@ struct ImpactZoneOptions {
   double ccd_tolerance{1e-6};   ///< distance at which CCD reports contact [m]
   int max_iterations{40};       ///< detect–respond rounds; past half of them zones move rigidly,
                                 ///< past three quarters they stay at x0
-  int max_sweeps{1000};         ///< Gauss–Seidel sweeps of one zone's projection
+  int max_sweeps{5000};         ///< Gauss–Seidel sweeps of one zone's projection
   double violation_tolerance{0.05};  ///< a projection has converged when no constraint is
                                      ///< violated by more than this fraction of `offset` (and
                                      ///< every pair stays beyond `ccd_tolerance`)
