@@ -1,5 +1,6 @@
 #include "coupling/friction_ncp.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -175,8 +176,8 @@ bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts
 
 /// Non-parallel planes, candidate "static at k": Δv on the line P_k(u_k + Δv) = 0, i.e.
 /// Δv = −P_k·u_k + t·n_k, with t minimising the convex ½a‖Δv‖² + Σ_{j≠k} c_j‖P_j(u_j + Δv)‖
-/// (its derivative is increasing: bisection). The other contacts slide; contact k takes the rest
-/// of aΔv, in its plane by the optimality in t. `u` are the full relative velocities.
+/// (its derivative is increasing: bisection). Contacts that end stuck with k share the rest of
+/// aΔv, the others slide.
 bool try_general_static_at(std::span<const FrictionContact> contacts, double a, const double* c,
                            const Mat3* P, double speed_eps, int k, FrictionResult& r) {
   const int m = static_cast<int>(contacts.size());
@@ -201,20 +202,38 @@ bool try_general_static_at(std::span<const FrictionContact> contacts, double a, 
     (slope(mid) > 0.0 ? hi : lo) = mid;
   }
   const Vec3 dv = base + 0.5 * (lo + hi) * n;
+  // The contacts that end stuck with k (moving with it) share what sliding leaves of aΔv:
+  // f_j = c_j·P_j·λ with Σ c_j·P_j·λ = rest (in proportion to capacity, each in its plane).
   Vec3 rest = a * dv;
+  Mat3 shared = Mat3::Zero();
+  double stuck_capacity = 0.0;
   for (int j = 0; j < m; ++j) {
-    r.sticking[static_cast<std::size_t>(j)] = j == k;
-    if (j == k) continue;
-    const Vec3 w = P[j] * (contacts[static_cast<std::size_t>(j)].relative_velocity + dv);
+    const auto uj = static_cast<std::size_t>(j);
+    const Vec3 w = P[j] * (contacts[uj].relative_velocity + dv);
     const double s = w.norm();
-    if (c[j] > 0.0 && s <= speed_eps) return false;  // a second contact ends stuck
-    r.force[static_cast<std::size_t>(j)] = s > 0.0 ? Vec3(-c[j] * w / s) : Vec3::Zero();
-    rest -= r.force[static_cast<std::size_t>(j)];
+    r.sticking[uj] = j == k || (c[j] > 0.0 && s <= speed_eps);
+    r.force[uj] = Vec3::Zero();
+    if (r.sticking[uj]) {
+      shared += c[j] * P[j];
+      stuck_capacity += c[j];
+    } else if (s > 0.0) {
+      r.force[uj] = -c[j] * w / s;
+      rest -= r.force[uj];
+    }
   }
-  r.force[static_cast<std::size_t>(k)] = P[k] * rest;
+  // Stuck planes all parallel to k's: the rest lies in that plane (optimality in t).
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(shared, Eigen::EigenvaluesOnly);
+  const bool spans = eig.eigenvalues()[0] > 1e-9 * stuck_capacity;
+  const Vec3 lambda = spans ? Vec3(shared.ldlt().solve(rest)) : Vec3(P[k] * rest / stuck_capacity);
+  for (int j = 0; j < m; ++j) {
+    const auto uj = static_cast<std::size_t>(j);
+    if (!r.sticking[uj]) continue;
+    r.force[uj] = c[j] * (spans ? Vec3(P[j] * lambda) : lambda);
+    if (r.force[uj].norm() > c[j] * (1.0 + 1e-12)) return false;
+  }
   r.delta_v = dv;
   r.anchor = k;
-  return rest.norm() <= c[k] * (1.0 + 1e-12);
+  return true;
 }
 
 /// Non-parallel planes, candidate "all dynamic": Newton in 3-D on ½a‖Δv‖² + Σ c_i‖P_i(u_i + Δv)‖
@@ -248,6 +267,10 @@ bool try_general_dynamic(std::span<const FrictionContact> contacts, double a, co
   Mat3 H;
   double scale = 1e-300;
   for (int i = 0; i < m; ++i) scale = std::max(scale, c[i]);
+  // A start on a kink (a contact stuck, as Gauss–Seidel often leaves one) is moved off it in a
+  // generic direction: the kinks are lines along the normals.
+  if (!gradient(dv, g, nullptr))
+    dv += 1e-6 * (1.0 + dv.norm()) * Vec3(1.0, std::sqrt(2.0), std::sqrt(3.0)).normalized();
   for (int iter = 0; iter < 50; ++iter) {
     if (!gradient(dv, g, &H)) return false;
     if (g.norm() <= 1e-15 * scale) break;
