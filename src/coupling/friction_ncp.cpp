@@ -111,69 +111,6 @@ void solve_general(std::span<const FrictionContact> contacts, double a, const Ma
   r.which = FrictionCase::general;
 }
 
-/// Candidate "all dynamic": minimise ½a‖Δv‖² + Σ c_i‖u_i + Δv‖, valid when no relative velocity
-/// ends at zero (then every force is −c_i ŵ_i). Newton alone can stall near a kink it does not
-/// end at, so it starts from the block Gauss–Seidel answer and only polishes it.
-bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts,
-                     FrictionResult& r) {
-  // Gradient of the objective in the plane, and its Hessian; false at a kink (a contact sticks).
-  const auto gradient = [&](const Vec3& dv, Vec3& g, Mat3* H) {
-    g = p.a * dv;
-    if (H) *H = p.a * Mat3::Identity();
-    for (int i = 0; i < p.count; ++i) {
-      const Vec3 w = p.u[i] + dv;
-      const double s = w.norm();
-      if (s <= p.speed_eps) return false;
-      const Vec3 wh = w / s;
-      g += p.c[i] * wh;
-      if (H) *H += (p.c[i] / s) * (Mat3::Identity() - wh * wh.transpose());
-    }
-    g = p.P * g;
-    return true;
-  };
-  const auto objective = [&](const Vec3& dv) {
-    double f = 0.5 * p.a * dv.squaredNorm();
-    for (int i = 0; i < p.count; ++i) f += p.c[i] * (p.u[i] + dv).norm();
-    return f;
-  };
-  FrictionResult start;
-  solve_general(contacts, p.a, &p.P, start);
-  Vec3 dv = start.delta_v, g;
-  Mat3 H;
-  for (int iter = 0; iter < 20; ++iter) {
-    if (!gradient(dv, g, &H)) return false;
-    if (g.norm() <= 1e-15 * force_scale(p)) break;
-    // Newton step in the plane (P H P + n nᵀ keeps the normal direction out of it); backtrack
-    // until the objective or, near the solution where it is flat to rounding, the gradient drops.
-    const Mat3 Hp = p.P * H * p.P + (Mat3::Identity() - p.P);
-    const Vec3 step = -(p.P * Hp.ldlt().solve(g));
-    const double f0 = objective(dv), g0 = g.norm();
-    double t = 1.0;
-    for (; t > 1e-12; t *= 0.5) {
-      Vec3 g_new;
-      const Vec3 trial = dv + t * step;
-      if (!gradient(trial, g_new, nullptr)) continue;
-      const double f = objective(trial);
-      // Armijo on the objective; where it is flat to rounding, require the gradient to drop.
-      const bool resolvable = std::abs(f - f0) > 1e-13 * std::abs(f0);
-      if (resolvable ? f <= f0 + 1e-4 * t * g.dot(step) : g_new.norm() < (1.0 - 1e-4 * t) * g0)
-        break;
-    }
-    if (t <= 1e-12) break;
-    dv += t * step;
-  }
-  for (int i = 0; i < p.count; ++i) {
-    const Vec3 w = p.u[i] + dv;
-    const double s = w.norm();
-    if (s <= p.speed_eps) return false;
-    r.force[i] = -p.c[i] * w / s;
-    r.sticking[i] = false;
-  }
-  r.delta_v = dv;
-  r.which = FrictionCase::all_dynamic;
-  return true;
-}
-
 /// Non-parallel planes, candidate "static at k": Δv on the line P_k(u_k + Δv) = 0, i.e.
 /// Δv = −P_k·u_k + t·n_k, with t minimising the convex ½a‖Δv‖² + Σ_{j≠k} c_j‖P_j(u_j + Δv)‖
 /// (its derivative is increasing: bisection). Contacts that end stuck with k share the rest of
@@ -265,8 +202,8 @@ bool try_general_dynamic(std::span<const FrictionContact> contacts, double a, co
   };
   Vec3 dv = start, g;
   Mat3 H;
-  double scale = 1e-300;
-  for (int i = 0; i < m; ++i) scale = std::max(scale, c[i]);
+  double scale = 1e-300;  // the problem's force scale
+  for (int i = 0; i < m; ++i) scale = std::max({scale, c[i], a * slip(i, Vec3::Zero()).norm()});
   // A start on a kink (a contact stuck, as Gauss–Seidel often leaves one) is moved off it in a
   // generic direction: the kinks are lines along the normals.
   if (!gradient(dv, g, nullptr))
@@ -297,6 +234,21 @@ bool try_general_dynamic(std::span<const FrictionContact> contacts, double a, co
     r.sticking[static_cast<std::size_t>(i)] = false;
   }
   r.delta_v = dv;
+  return true;
+}
+
+/// Parallel planes, candidate "all dynamic": the 3-D Newton above with the common plane for
+/// every contact. Newton alone can stall near a kink it does not end at, so it starts from the
+/// block Gauss–Seidel answer and only polishes it.
+bool try_all_dynamic(const Problem& p, std::span<const FrictionContact> contacts,
+                     FrictionResult& r) {
+  FrictionResult start;
+  solve_general(contacts, p.a, &p.P, start);
+  std::array<Mat3, kMaxVertexContacts> P;
+  P.fill(p.P);
+  if (!try_general_dynamic(contacts, p.a, p.c.data(), P.data(), p.speed_eps, start.delta_v, r))
+    return false;
+  r.which = FrictionCase::all_dynamic;
   return true;
 }
 
