@@ -47,7 +47,8 @@ void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d
       const int q = new_of[static_cast<std::size_t>(p.row[static_cast<std::size_t>(b)])];
       if (q <= pv) column.emplace_back(q, b);
     }
-    // Scalar columns (in any row order: the factorisation does not need them sorted) 3pv + c: rows 3q + r of each block, upper triangle only.
+    // Scalar columns (in any row order: the factorisation does not need them sorted) 3pv + c: rows
+    // 3q + r of each block, upper triangle only.
     for (int c = 0; c < 3; ++c) {
       d.dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
       for (const auto& [q, b] : column) {
@@ -422,10 +423,7 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
           {friction[k].vertex, friction[k].surface_velocity, Vec3::Zero(), friction[k].normal});
   // Relative tangential velocity of friction vertex k at the velocity change `dv`.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
-    const FrictionConstraint& f = friction[k];
-    const Vec3 w =
-        state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
-    return Vec3(w - f.normal.dot(w) * f.normal);
+    return tangential_slip(friction[k], state, dv);
   };
 
   // Newton iterations from the last step's Δv (a warm start for the linear solves too; a vertex

@@ -56,7 +56,7 @@ struct DynamicsWorkspace {
   std::vector<int> schur_fidx, schur_ridx, schur_slip_dofs, schur_yoff;
   std::vector<Mat3> schur_frame;
   Eigen::MatrixXd schur_Syy, schur_X;
-  Eigen::VectorXd schur_cy, schur_xr;
+  Eigen::VectorXd schur_cy, schur_xr, schur_tail;
   // Iterative solver.
   bool pcg_ready{false};
   BlockPcg pcg;
@@ -79,6 +79,15 @@ Mat3 free_projector(const VelocityConstraint& c);
 /// Eliminates the constrained unknowns from ws.blocks and ws.rhs (see dynamics.cpp).
 void eliminate_constraints(const ClothModel& model, const ClothState& state,
                            std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws);
+
+/// Tangential slip of friction constraint f at the velocity change `dv`: the vertex's velocity
+/// v + Δv relative to its surface, projected on the contact plane.
+inline Vec3 tangential_slip(const FrictionConstraint& f, const ClothState& state,
+                            const Eigen::VectorXd& dv) {
+  const Vec3 w =
+      state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
+  return w - f.normal.dot(w) * f.normal;
+}
 
 /// Gradient of B·φ(‖w‖) in the slip w, φ the norm smoothed below ε (s²/2ε + ε/2 there): the
 /// friction impulse is its negative.

@@ -18,10 +18,7 @@ DynamicsReport solve_friction_newton(const ClothModel& model, const ClothState& 
   const auto active = [&](std::size_t k) { return ws.active[k] != 0; };
   // Relative tangential velocity of friction vertex k at the velocity change `dv`.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
-    const FrictionConstraint& f = friction[k];
-    const Vec3 w =
-        state.v.row(f.vertex).transpose() + dv.segment<3>(3 * f.vertex) - f.surface_velocity;
-    return Vec3(w - f.normal.dot(w) * f.normal);
+    return tangential_slip(friction[k], state, dv);
   };
   // The objective whose minimiser is the step: ½Δvᵀ A Δv − bᵀΔv + Σ B_k φ(‖w_k‖), φ the norm
   // smoothed below ε (φ = s²/2ε + ε/2 there).

@@ -90,28 +90,26 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   std::vector<int>& slip_dofs = ws.schur_slip_dofs;  // per tail vertex: 0, 2 or 3
   frame.assign(F.size(), Mat3::Identity());
   slip_dofs.assign(F.size(), 0);
-  std::vector<Vec3>& plane = ws.last_slip;  // scratch: one normal per tail vertex
-  plane.assign(F.size(), Vec3::Zero());
   for (std::size_t k = 0; k < friction.size(); ++k) {
     if (!active[k]) continue;
     const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(friction[k].vertex)]);
     const Vec3& n = friction[k].normal;
     if (slip_dofs[a] == 0) {
       slip_dofs[a] = 2;
-      plane[a] = n;
-    } else if (slip_dofs[a] == 2 && std::abs(plane[a].dot(n)) < 1.0 - 1e-12) {
+      frame[a].col(2) = n;  // the plane; its tangents below
+    } else if (slip_dofs[a] == 2 && std::abs(frame[a].col(2).dot(n)) < 1.0 - 1e-12) {
       slip_dofs[a] = 3;
+      frame[a].setIdentity();
     }
   }
   fidx.clear();
   ridx.clear();
   for (std::size_t a = 0; a < F.size(); ++a) {
     if (slip_dofs[a] == 2) {
-      const Vec3 n = plane[a];
+      const Vec3 n = frame[a].col(2);
       const Vec3 t1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
       frame[a].col(0) = t1;
       frame[a].col(1) = n.cross(t1);
-      frame[a].col(2) = n;
     }
     for (int c = 0; c < 3; ++c)
       (c < slip_dofs[a] ? fidx : ridx).push_back(3 * static_cast<int>(a) + c);
@@ -211,12 +209,12 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     if (alpha * ws.schur_step.cwiseAbs().maxCoeff() < 1e-8 * eps) break;
   }
   // The tail: y, the rest r = S_rr⁻¹·(c_r − S_ry·y), back from the frames.
-  ws.schur_c.setZero();  // reused for the tail in the frames
-  ws.schur_c(fidx) = ws.schur_x;
-  if (q > 0) ws.schur_c(ridx) = ws.schur_xr - ws.schur_X * ws.schur_x;
+  ws.schur_tail.resize(m);
+  ws.schur_tail(fidx) = ws.schur_x;
+  if (q > 0) ws.schur_tail(ridx) = ws.schur_xr - ws.schur_X * ws.schur_x;
   for (std::size_t a = 0; a < F.size(); ++a) {
     const auto row = static_cast<Eigen::Index>(3 * a);
-    ws.work.segment<3>(n - m + row) = frame[a] * ws.schur_c.segment<3>(row);
+    ws.work.segment<3>(n - m + row) = frame[a] * ws.schur_tail.segment<3>(row);
   }
   seconds += since(start);
 
@@ -231,10 +229,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   for (std::size_t k = 0; k < friction.size(); ++k) {
     if (!active[k]) continue;
     const FrictionConstraint& f = friction[k];
-    Vec3 w =
-        state.v.row(f.vertex).transpose() + ws.dv.segment<3>(3 * f.vertex) - f.surface_velocity;
-    w -= f.normal.dot(w) * f.normal;
-    ws.work.segment<3>(3 * f.vertex) += friction_gradient(w, f.max_impulse, eps);
+    ws.work.segment<3>(3 * f.vertex) +=
+        friction_gradient(tangential_slip(f, state, ws.dv), f.max_impulse, eps);
   }
   const double b_norm = ws.rhs.norm();
   report.residual = ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);

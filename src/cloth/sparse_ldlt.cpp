@@ -8,10 +8,11 @@ namespace dexcloth::cloth {
 
 namespace {
 
-/// Elimination tree and column counts of L for the upper-triangle pattern (col_start, row) of
-/// an n×n matrix: row k of L is the set of nodes reachable in the tree from the nonzeros
-/// A(i, k), i < k. `stride` > 1 reads only the rows that are multiples of it, divided by it.
-void etree_and_counts(int n, const int* col_start, const int* row, int column_step, int stride,
+/// Elimination tree and column counts of L for n nodes of `block`×`block` dense blocks of the
+/// upper-triangle pattern (col_start, row): row k of L is the set of nodes reachable in the
+/// tree from the nonzeros A(i, k), i < k. A node's last column holds each of its block rows;
+/// its first row (a multiple of `block`) stands for the block.
+void etree_and_counts(int n, const int* col_start, const int* row, int block,
                       std::vector<int>& parent, std::vector<int>& count, std::vector<int>& flag) {
   const auto un = static_cast<std::size_t>(n);
   parent.assign(un, -1);
@@ -19,10 +20,10 @@ void etree_and_counts(int n, const int* col_start, const int* row, int column_st
   flag.assign(un, -1);
   for (int k = 0; k < n; ++k) {
     flag[static_cast<std::size_t>(k)] = k;
-    const int column = column_step * k + column_step - 1;
+    const int column = block * k + block - 1;
     for (int p = col_start[column]; p < col_start[column + 1]; ++p) {
-      if (row[p] % stride != 0) continue;
-      int i = row[p] / stride;
+      if (row[p] % block != 0) continue;
+      int i = row[p] / block;
       DEXCLOTH_DEMAND(i >= 0 && i <= k);
       for (; flag[static_cast<std::size_t>(i)] != k; i = parent[static_cast<std::size_t>(i)]) {
         if (parent[static_cast<std::size_t>(i)] == -1) parent[static_cast<std::size_t>(i)] = k;
@@ -46,13 +47,13 @@ void SparseLdlt::analyze(int n, std::span<const int> col_start, std::span<const 
   m_Ai.assign(row.begin(), row.end());
   m_Lp.assign(un + 1, 0);
   if (block == 1) {
-    etree_and_counts(n, m_Ap.data(), m_Ai.data(), 1, 1, m_parent, m_Lnz, m_flag);
+    etree_and_counts(n, m_Ap.data(), m_Ai.data(), 1, m_parent, m_Lnz, m_flag);
   } else {
     // The last column of a vertex holds every block row of its block column once per row of
     // the block; the rows 3q stand for block q. Within a vertex the unknowns chain (3v → 3v+1
     // → 3v+2), and 3v+2 hangs under the first unknown of the vertex's block parent.
     std::vector<int> block_parent, block_count;
-    etree_and_counts(n / 3, m_Ap.data(), m_Ai.data(), 3, 3, block_parent, block_count, m_flag);
+    etree_and_counts(n / 3, m_Ap.data(), m_Ai.data(), 3, block_parent, block_count, m_flag);
     m_parent.assign(un, -1);
     m_Lnz.assign(un, 0);
     for (int v = 0; v < n / 3; ++v) {
