@@ -95,4 +95,11 @@ Carry carry(const nlohmann::json& s, const std::string& pinched, double release)
   return out;
 }
 
+void expect_intact(const nlohmann::json& s) {
+  EXPECT_EQ(s["intersections_max"], 0);
+  EXPECT_EQ(s["nan"], false);
+  for (const auto& w : s["warnings"])
+    EXPECT_EQ(w["message"].get<std::string>().find("lost"), std::string::npos) << w;
+}
+
 }  // namespace dexcloth::test

@@ -45,4 +45,8 @@ struct Carry {
 };
 Carry carry(const nlohmann::json& s, const std::string& pinched, double release);
 
+/// Expects a run's summary to show no cloth–cloth or cloth–body intersection at any recorded
+/// frame, no NaN, and no warning of lost state.
+void expect_intact(const nlohmann::json& s);
+
 }  // namespace dexcloth::test
