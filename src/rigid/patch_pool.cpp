@@ -21,8 +21,7 @@ void PatchPool::set(int i, const PatchState& state) {
   p.active = true;
   p.layer = state.layer;
   // Geometry and inertia of a thin box (paper §5: thickness = cloth thickness).
-  const Vec3 size(state.extents.x(), state.extents.y(), state.thickness);
-  if (!p.box->getSize().isApprox(size)) p.box->setSize(size);
+  m_world->resize_patch(i, Vec3(state.extents.x(), state.extents.y(), state.thickness));
   auto& skel = *m_world->skeletons[static_cast<std::size_t>(p.skeleton)].skel;
   dart::dynamics::BodyNode* body = skel.getBodyNode(0);
   body->setInertia(dart::dynamics::Inertia(state.mass, Vec3::Zero(), p.box->computeInertia(state.mass)));

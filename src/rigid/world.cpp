@@ -207,6 +207,34 @@ void WorldImpl::park_patch(int i) {
   skel.setGravity(Vec3::Zero());
 }
 
+// A patch's box changes size every step. Through its skeleton's subscription, DART would
+// rebuild the resized boxes' collision objects while iterating an unordered_map keyed by
+// skeleton addresses, so Bullet's object and pair order (hence DART's contact order and the LCP
+// solution) would depend on where the heap put the skeletons: the same scene gave different
+// results for different output paths. As plain members of the group, the boxes are rebuilt here,
+// one at a time in pool order.
+void WorldImpl::detach_patch_shape(int i) {
+  const auto& group = world->getConstraintSolver()->getCollisionGroup();
+  const dd::ShapeNode* node = patch_shape_node(i);
+  group->removeShapeFrame(node);  // also ends the skeleton's subscription
+  group->addShapeFrame(node);
+}
+
+void WorldImpl::resize_patch(int i, const Vec3& size) {
+  PatchRecord& p = patches[static_cast<std::size_t>(i)];
+  if (p.box->getSize().isApprox(size)) return;
+  p.box->setSize(size);
+  const auto& group = world->getConstraintSolver()->getCollisionGroup();
+  const dd::ShapeNode* node = patch_shape_node(i);
+  group->removeShapeFrame(node);
+  group->addShapeFrame(node);
+}
+
+const dd::ShapeNode* WorldImpl::patch_shape_node(int i) const {
+  const PatchRecord& p = patches[static_cast<std::size_t>(i)];
+  return bodies[static_cast<std::size_t>(p.body)].node->getShapeNode(0);
+}
+
 void set_free_root_state(dd::Skeleton& skel, const Eigen::Isometry3d& X_WB, const Vec3& v_W,
                          const Vec3& w_W) {
   auto* joint = dynamic_cast<dd::FreeJoint*>(skel.getRootJoint());
@@ -266,6 +294,7 @@ RigidWorld::RigidWorld(const RigidWorldOptions& options) : m_impl(std::make_uniq
     w.bodies[static_cast<std::size_t>(b)].patch = i;
     rec.body = b;
     w.patches.push_back(rec);
+    w.detach_patch_shape(i);
     w.park_patch(i);
   }
 }

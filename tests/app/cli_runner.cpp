@@ -13,8 +13,8 @@
 
 namespace dexcloth::test {
 
-CliResult run_cli(const std::string& args) {
-  const std::string cmd = std::string("\"") + DEXCLOTH_EXE + "\" " + args + " 2>&1";
+CliResult run_cli(const std::string& args, const std::string& prefix) {
+  const std::string cmd = prefix + "\"" + DEXCLOTH_EXE + "\" " + args + " 2>&1";
   CliResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("popen failed: " + cmd);

@@ -12,8 +12,9 @@ struct CliResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs `dexcloth <args>` (args already shell-quoted where needed).
-CliResult run_cli(const std::string& args);
+/// Runs `dexcloth <args>` (args already shell-quoted where needed), after the shell words
+/// `prefix` (e.g. "cd /tmp && NAME=value ").
+CliResult run_cli(const std::string& args, const std::string& prefix = "");
 
 /// A fresh, empty folder under the system temp dir, unique to this test.
 std::filesystem::path fresh_dir(const std::string& name);

@@ -90,6 +90,13 @@ struct WorldImpl {
   int body_index(const dart::dynamics::BodyNode* node) const;
   /// Moves patch `i` to its parked, inactive state.
   void park_patch(int i);
+  /// Makes patch `i`'s box a member of the contact solver's collision group in its own right,
+  /// no longer through its skeleton's subscription (see world.cpp).
+  void detach_patch_shape(int i);
+  /// Sets patch `i`'s box size and rebuilds its collision object (see world.cpp).
+  void resize_patch(int i, const Vec3& size);
+  /// The shape node of patch `i`'s box.
+  const dart::dynamics::ShapeNode* patch_shape_node(int i) const;
   /// Adds the stable-PD torques of every skeleton with joint gains to its forces (see world.cpp).
   void apply_stable_pd();
   /// Appends the last DART step's contacts to the bodies' lists, forces scaled by `weight`.
