@@ -61,7 +61,7 @@ void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d
     }
   }
   d.values.assign(d.row.size(), 0.0);
-  d.ldlt.analyze(3 * nv, d.col_start, d.row, 3);
+  d.cholesky.analyze(3 * nv, d.col_start, d.row);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
@@ -69,7 +69,7 @@ DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
   report.iterations = 1;
   const double* const base = blocks.data()->data();
   for (std::size_t k = 0; k < d.values.size(); ++k) d.values[k] = base[d.source[k]];
-  if (const int col = d.ldlt.factorize(d.values); col >= 0) {
+  if (const int col = d.cholesky.factorize(d.values); col >= 0) {
     report.ok = false;
     report.message = "LDLT pivot not positive at unknown " +
                      std::to_string(d.dof[static_cast<std::size_t>(col)]) +
@@ -232,7 +232,7 @@ DynamicsReport solve_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
   // Solve in the permuted order.
   const auto n = static_cast<std::size_t>(ws.rhs.size());
   for (std::size_t k = 0; k < n; ++k) ws.work[static_cast<Eigen::Index>(k)] = ws.rhs[d.dof[k]];
-  d.ldlt.solve_in_place(std::span<double>(ws.work.data(), n));
+  d.cholesky.solve_in_place(std::span<double>(ws.work.data(), n));
   for (std::size_t k = 0; k < n; ++k) ws.dv[d.dof[k]] = ws.work[static_cast<Eigen::Index>(k)];
   return report;
 }

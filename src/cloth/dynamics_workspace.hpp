@@ -5,7 +5,7 @@
 
 #include "cloth/block_pcg.hpp"
 #include "cloth/dynamics.hpp"
-#include "cloth/sparse_ldlt.hpp"
+#include "cloth/sparse_cholesky.hpp"
 #include "core/types.hpp"
 
 namespace dexcloth::cloth {
@@ -19,7 +19,7 @@ struct DirectSystem {
   std::vector<int> source;     ///< offset of each stored entry in the blocks (as doubles)
   std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
   std::vector<double> values;  ///< gathered values
-  SparseLdlt ldlt;
+  SparseCholesky cholesky;
 };
 
 /// Buffers of solve_velocities (see dynamics.cpp). Sized for one model on the first step.
@@ -51,7 +51,7 @@ struct DynamicsWorkspace {
   std::vector<int> schur_order;  ///< the elimination order with them last
   std::vector<char> schur_mark;  ///< |V| scratch: vertices with friction this step
   Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton matrix
-  Eigen::VectorXd schur_D, schur_c, schur_x, schur_r, schur_step, schur_trial;
+  Eigen::VectorXd schur_c, schur_x, schur_r, schur_step, schur_trial;
   // The Schur complement condensed on the slip coordinates (friction_schur.cpp).
   std::vector<int> schur_fidx, schur_ridx, schur_slip_dofs, schur_yoff;
   std::vector<Mat3> schur_frame;

@@ -1,9 +1,9 @@
 // Friction in the implicit step through the Schur complement of the friction vertices.
 //
 // The step minimises f(Δv) = ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k φ(‖w_k‖), whose friction terms touch only
-// the friction vertices F. Ordered last in an LDLᵀ factorisation of A, their unknowns x satisfy
-// S·x = c + λ with S = L₂₂D₂L₂₂ᵀ the Schur complement of the other unknowns and c = L₂₂z₂ (z the
-// forward-substituted b), λ the friction impulses. So the whole friction problem is the small
+// the friction vertices F. Ordered last in a Cholesky factorisation A = LLᵀ, their unknowns x
+// satisfy S·x = c + λ with S = L₂₂L₂₂ᵀ the Schur complement of the other unknowns and
+// c = L₂₂z₂ (z the forward-substituted b), λ the friction impulses. So the whole friction problem is the small
 // dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), condensed further on the slip coordinates
 // (two per vertex), and one back substitution gives every other velocity: the friction costs a
 // dense problem of about 2|F| unknowns instead of a linear solve of the cloth per Newton
@@ -67,19 +67,16 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   if (!report.ok) return report;
   const DirectSystem& d = ws.schur;
   for (Eigen::Index k = 0; k < n; ++k) ws.work[k] = ws.rhs[d.dof[static_cast<std::size_t>(k)]];
-  d.ldlt.forward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)));
+  d.cholesky.forward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)));
 
   // The friction problem on the Schur complement: min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k‖).
   start = Clock::now();
-  d.ldlt.trailing_factor(static_cast<int>(m), ws.schur_L, ws.schur_D);
-  // S = L₂₂D₂L₂₂ᵀ = M·Mᵀ with M = L₂₂D₂^½ (the pivots are positive), a symmetric rank update;
-  // c = L₂₂z₂ = M·D₂^-½z₂.
-  ws.schur_D = ws.schur_D.cwiseSqrt();
-  ws.schur_L = ws.schur_L * ws.schur_D.asDiagonal();
+  d.cholesky.trailing_factor(static_cast<int>(m), ws.schur_L);
+  // S = L₂₂L₂₂ᵀ, a symmetric rank update; c = L₂₂z₂.
   ws.schur_S.setZero(m, m);
   ws.schur_S.selfadjointView<Eigen::Lower>().rankUpdate(ws.schur_L);
   ws.schur_S.triangularView<Eigen::StrictlyUpper>() = ws.schur_S.transpose();
-  ws.schur_c.noalias() = ws.schur_L * ws.work.tail(m).cwiseQuotient(ws.schur_D);
+  ws.schur_c.noalias() = ws.schur_L.triangularView<Eigen::Lower>() * ws.work.tail(m);
   // Only the slip directions are nonlinear: in each tail vertex's frame R (tangents first when
   // its contact planes agree, else all three axes; none without friction) the unknowns split
   // into slip coordinates y and the rest r, and r is eliminated exactly once. Newton's method
@@ -219,8 +216,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   seconds += since(start);
 
   // Back substitution: every other velocity from the friction vertices'.
-  d.ldlt.backward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)),
-                           static_cast<int>(m));
+  d.cholesky.backward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)),
+                               static_cast<int>(m));
   for (Eigen::Index k = 0; k < n; ++k) ws.dv[d.dof[static_cast<std::size_t>(k)]] = ws.work[k];
 
   // Check: every row of the system balances, the friction vertices' with their impulses.
