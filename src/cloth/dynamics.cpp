@@ -71,7 +71,7 @@ DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
   for (std::size_t k = 0; k < d.values.size(); ++k) d.values[k] = base[d.source[k]];
   if (const int col = d.cholesky.factorize(d.values); col >= 0) {
     report.ok = false;
-    report.message = "LDLT pivot not positive at unknown " +
+    report.message = "Cholesky pivot not positive at unknown " +
                      std::to_string(d.dof[static_cast<std::size_t>(col)]) +
                      " (system not positive definite or not finite)";
   }
@@ -224,7 +224,7 @@ void constraint_impulses(const ClothModel& model, std::span<const VelocityConstr
 }
 
 /// Direct solve into ws.dv; returns the report.
-DynamicsReport solve_ldlt(const ClothModel& model, DynamicsWorkspace& ws) {
+DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   DirectSystem& d = ws.direct;
   if (d.order.empty()) analyse(model.pattern, model.pattern.fill_order, d);
   DynamicsReport report = factorise(ws.blocks, d);
@@ -325,8 +325,8 @@ DynamicsReport solve_system(const ClothModel& model,
   DynamicsReport report;
   SolverSettings settings = model.solver;
   settings.tolerance = std::max(settings.tolerance, tolerance);
-  if (settings.linear_solver == LinearSolver::ldlt) {
-    report = solve_ldlt(model, ws);
+  if (settings.linear_solver == LinearSolver::cholesky) {
+    report = solve_direct(model, ws);
     if (!report.ok) return report;
     report.residual = direct_residual(model, ws);
   } else {
@@ -350,7 +350,7 @@ DynamicsReport solve_system(const ClothModel& model,
       const std::string why = "PCG did not converge (relative residual " +
                               std::to_string(r.residual) + " after " +
                               std::to_string(r.iterations) + " iterations)";
-      report = solve_ldlt(model, ws);
+      report = solve_direct(model, ws);
       if (!report.ok) {
         report.message = why + "; " + report.message;
         ws.dv.setZero();
@@ -358,7 +358,7 @@ DynamicsReport solve_system(const ClothModel& model,
       }
       report.residual = direct_residual(model, ws);
       report.iterations += r.iterations;
-      report.message = why + "; solved with LDLT";
+      report.message = why + "; solved with Cholesky";
     }
   }
   if (!ws.dv.allFinite() || !(report.residual <= std::max(settings.tolerance, 1e-6))) {

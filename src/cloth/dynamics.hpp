@@ -68,7 +68,7 @@ struct DynamicsReport {
   bool ok{true};      ///< false if the linear solve failed or produced a non-finite velocity
   int iterations{};   ///< linear-solver iterations (1 for the direct solver)
   double residual{};  ///< relative residual ‖AΔv − b‖/‖b‖ of the linear solve [-]
-  /// What went wrong when !ok; when ok, empty or a note (PCG fell back to LDLT for this step).
+  /// What went wrong when !ok; when ok, empty or a note (PCG fell back to Cholesky for this step).
   std::string message;
 };
 

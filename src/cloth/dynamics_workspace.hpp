@@ -122,7 +122,7 @@ void assemble_system(const ClothModel& model, const ClothState& state, double h,
                      DynamicsWorkspace& ws);
 
 /// Second half of solve_velocities: solves the assembled system into ws.dv (PCG warm-started
-/// from the Δv already in ws.dv, or LDLT, per model.solver), PCG to the larger of the model's
+/// from the Δv already in ws.dv, or Cholesky, per model.solver), PCG to the larger of the model's
 /// tolerance and `tolerance`. On failure ws.dv is zeroed.
 DynamicsReport solve_system(const ClothModel& model,
                             std::span<const VelocityConstraint> constraints, DynamicsWorkspace& ws,

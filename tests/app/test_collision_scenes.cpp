@@ -64,7 +64,9 @@ TEST(CollisionScenes, FastFallOntoAThinBoxDoesNotTunnel) {
   for (std::size_t k = 1; k < on_table.size(); ++k)
     fastest = std::max(fastest, (on_table[k - 1][3].get<double>() - on_table[k][3].get<double>()) /
                                     (on_table[k][0].get<double>() - on_table[k - 1][0].get<double>()));
-  EXPECT_GT(fastest, 4.5);                                   // it really came down fast
+  // It really came down fast: implicit Euler's free fall reaches v = 9·h·g = 4.5 m/s in the last
+  // whole step before the hit (the contact layer is 0.125 m down, passed during step 10).
+  EXPECT_GT(fastest, 0.99 * 4.5);
   EXPECT_GT(last(s, "on_table")[3], 0.80);                   // and stayed on top of the box
 }
 

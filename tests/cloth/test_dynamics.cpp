@@ -50,7 +50,7 @@ TEST(Dynamics, HangingStripReachesAnalyticElongation) {
   m.youngs_modulus = E;
   m.thickness = t;
   m.poisson = 0.0;
-  for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
+  for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::cholesky}) {
     ClothModel model = build_model(mesh, m);
     model.solver.linear_solver = solver;
     ClothState state = make_state(model, mesh.x);
@@ -85,7 +85,7 @@ TEST(Dynamics, HangingStripReachesAnalyticElongation) {
 }
 
 TEST(Dynamics, EnergyDecaysMonotonicallyUnderDamping) {
-  for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::ldlt}) {
+  for (LinearSolver solver : {LinearSolver::pcg, LinearSolver::cholesky}) {
     PerturbedSheet s = perturbed_sheet(5);
     s.model.solver.linear_solver = solver;
     const std::vector<VelocityConstraint> none;
@@ -106,7 +106,7 @@ TEST(Dynamics, EnergyDecaysMonotonicallyUnderDamping) {
 
 TEST(Dynamics, LinearMomentumIsConservedWithoutExternalForces) {
   PerturbedSheet s = perturbed_sheet(11);
-  s.model.solver.linear_solver = LinearSolver::ldlt;  // exact to rounding (PCG: to its tolerance)
+  s.model.solver.linear_solver = LinearSolver::cholesky;  // exact to rounding (PCG: to its tolerance)
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   for (int i = 0; i < s.state.v.rows(); ++i) {
@@ -155,7 +155,7 @@ TEST(Dynamics, SolveVelocitiesLeavesPositionsAndAdvanceUsesVelocities) {
 TEST(Dynamics, ConjugateGradientAgreesWithDirectSolver) {
   PerturbedSheet direct = perturbed_sheet(8);
   PerturbedSheet iterative = perturbed_sheet(8);
-  direct.model.solver.linear_solver = LinearSolver::ldlt;
+  direct.model.solver.linear_solver = LinearSolver::cholesky;
   iterative.model.solver.linear_solver = LinearSolver::pcg;
   iterative.model.solver.tolerance = 1e-11;
   const std::vector<VelocityConstraint> handles = {{0, Vec3(0, 0, 0.1)}, {10, Vec3::Zero()}};
@@ -176,8 +176,8 @@ TEST(Dynamics, DefaultToleranceTracksTheDirectSolver) {
   // the displacement (measured 8e-5; a tolerance of 1e-4 gives 6e-3 and fails).
   PerturbedSheet direct = perturbed_sheet(9);
   PerturbedSheet iterative = perturbed_sheet(9);
-  direct.model.solver.linear_solver = LinearSolver::ldlt;
-  ASSERT_EQ(iterative.model.solver.linear_solver, LinearSolver::pcg);
+  direct.model.solver.linear_solver = LinearSolver::cholesky;
+  iterative.model.solver.linear_solver = LinearSolver::pcg;
   ASSERT_EQ(iterative.model.solver.tolerance, 1e-5);
   const Points x0 = direct.state.x;
   const std::vector<VelocityConstraint> handles = {{0, Vec3::Zero()}, {10, Vec3::Zero()}};
@@ -196,7 +196,7 @@ TEST(Dynamics, DefaultToleranceTracksTheDirectSolver) {
 TEST(Dynamics, NumericalTroubleIsReportedNotFatal) {
   PerturbedSheet s = perturbed_sheet(4);
   const Points v0 = s.state.v, x0 = s.state.x;
-  s.model.solver.linear_solver = LinearSolver::ldlt;
+  s.model.solver.linear_solver = LinearSolver::cholesky;
   s.state.f_ext(3, 1) = std::nan("");
   const std::vector<VelocityConstraint> none;
   const DynamicsReport r = step_dynamics(s.model, s.state, kStep, Vec3::Zero(), none);
@@ -215,7 +215,8 @@ TEST(Dynamics, NumericalTroubleIsReportedNotFatal) {
 TEST(Dynamics, NonConvergedConjugateGradientFallsBackToDirectSolver) {
   PerturbedSheet direct = perturbed_sheet(6);
   PerturbedSheet capped = perturbed_sheet(6);
-  direct.model.solver.linear_solver = LinearSolver::ldlt;
+  direct.model.solver.linear_solver = LinearSolver::cholesky;
+  capped.model.solver.linear_solver = LinearSolver::pcg;
   capped.model.solver.tolerance = 1e-8;
   capped.model.solver.max_iterations = 2;  // PCG cannot reach 1e-8 in 2 iterations
   const std::vector<VelocityConstraint> none;
@@ -223,6 +224,6 @@ TEST(Dynamics, NonConvergedConjugateGradientFallsBackToDirectSolver) {
   const DynamicsReport r =
       solve_velocities(capped.model, capped.state, kStep, Vec3(0, 0, -9.81), none);
   EXPECT_TRUE(r.ok);
-  EXPECT_NE(r.message.find("solved with LDLT"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("solved with Cholesky"), std::string::npos) << r.message;
   EXPECT_LE((direct.state.v - capped.state.v).norm(), 1e-12 * direct.state.v.norm());
 }

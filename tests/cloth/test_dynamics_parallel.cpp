@@ -19,6 +19,7 @@ Points velocities_after_steps(int threads) {
   const int n = 40;
   const ClothMesh mesh = make_grid(0.5, 0.5, n, n);
   ClothModel model = build_model(mesh, Material{});
+  model.solver.linear_solver = LinearSolver::pcg;
   model.solver.threads = threads;
   ClothState state = make_state(model, mesh.x);
   const std::vector<VelocityConstraint> pins = {{n * (n - 1), Vec3::Zero()},
