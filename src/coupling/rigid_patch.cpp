@@ -43,6 +43,10 @@ struct DisjointSets {
   }
 };
 
+/// A cluster fits a plane when it spreads across its main direction by at least this share of
+/// the patch's minimum size (RMS) [-].
+constexpr double kMinPlaneSpread = 0.1;
+
 bool joinable(const PatchVertex& a, const PatchVertex& b, const ClusterParams& p, double chord) {
   const Vec3 d = a.x - b.x;
   return d.norm() <= p.distance && (a.n - b.n).norm() <= chord &&
@@ -164,7 +168,20 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
   // Vertices pressed from opposite sides (a stack) can have normals summing to zero.
   if (mean_normal.norm() < 1e-9 * static_cast<double>(cluster.size()))
     mean_normal = vertices[cluster.front()].n;
-  Vec3 n = cluster.size() >= 3 ? Vec3(eig.eigenvectors().col(0)) : mean_normal.normalized();
+  mean_normal.normalize();
+  // Vertices along a line (a row along a finger's edge) fit no plane: any normal about the line
+  // fits, and the one the solver returns was up to 90° from the surfaces they touch. Then the
+  // vertex normals, made orthogonal to the line, give it.
+  const Eigen::Vector3d spread = eig.eigenvalues().cwiseMax(0.0);
+  const double rms_across = std::sqrt(spread(1) / static_cast<double>(cluster.size()));
+  const bool planar = cluster.size() >= 3 && spread(1) > 0.01 * spread(2) &&
+                      rms_across > kMinPlaneSpread * min_size;
+  Vec3 n = Vec3(eig.eigenvectors().col(0));
+  if (!planar) {
+    const Vec3 line = eig.eigenvectors().col(2);
+    const Vec3 across = mean_normal - mean_normal.dot(line) * line;
+    n = spread(2) > 0.0 && across.norm() > 1e-6 ? Vec3(across.normalized()) : mean_normal;
+  }
   if (n.dot(mean_normal) < 0) n = -n;
   // In-plane basis, then the minimum-area rectangle of the projected vertices.
   Vec3 e1 = n.unitOrthogonal();
@@ -337,7 +354,7 @@ std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
     if (stacks[j].size() > 1) std::sort(members.begin(), members.end());
     clusters[j] = std::move(members);
     touches[j] = std::move(surfaces);
-    layers.push_back(static_cast<int>(stacks[j].size()));
+    layers.push_back(stacks[j].size() > 1 ? 2 : 1);
   }
   clusters.resize(stacks.size());
   touches.resize(stacks.size());

@@ -41,8 +41,9 @@ struct RigidPatch {
 std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vertices,
                                                const ClusterParams& params);
 
-/// Fits a patch to a cluster: least-squares plane, minimum-area rectangle of the vertices projected
-/// on it (rotating calipers on the convex hull), each side at least `min_size`, thickness
+/// Fits a patch to a cluster: least-squares plane (for vertices along a line, which fit no plane,
+/// the one holding the line and the mean vertex normal), minimum-area rectangle of the vertices
+/// projected on it (rotating calipers on the convex hull), each side at least `min_size`, thickness
 /// `thickness`, summed mass, linear velocity from the momentum, angular velocity from the angular
 /// momentum about the centre of mass (ω = I⁻¹L, pseudo-inverse for collinear clusters).
 RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const int> cluster,
@@ -74,9 +75,12 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 /// other's mean surface point (over its touches along its m) lies ahead along m by at most
 /// `max_gap` [m] and within `max_lateral` [m] of its own across m. Each cluster is pressed by one
 /// finger only, so each patch alone would be a free light box the finger pushes aside; as one patch
-/// the stack is squeezed between both. Returns, per resulting cluster, the number of clusters
-/// (layers) it joins; `clusters` and `touches` are rewritten alike (a joined cluster's members
-/// sorted, its touches concatenated), in order of each stack's first cluster.
+/// the stack is squeezed between both. Returns, per resulting cluster, the cloth layers it holds:
+/// 1 for a cluster left alone, 2 for a stack, however many clusters it joined (those pressed by
+/// one finger are pieces of one outer layer; a finger's pad and flank, or a crumple, split a
+/// layer into several, and counting them as layers made a 25 mm patch between pads 8 mm apart);
+/// `clusters` and `touches` are rewritten alike (a joined cluster's members sorted, its touches
+/// concatenated), in order of each stack's first cluster.
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
                                       std::vector<std::vector<SurfaceTouch>>& touches,
                                       double max_gap, double max_lateral);

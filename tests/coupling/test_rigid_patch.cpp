@@ -212,6 +212,14 @@ TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
   std::vector<std::vector<SurfaceTouch>> two{original[0], original[1]};
   const std::vector<int> single = join_facing_clusters(apart, two, 0.012, 0.04);
   EXPECT_EQ(single, (std::vector<int>{1, 1}));
+  // A layer split in two pieces under one finger, facing a layer under the other: one stack of
+  // two layers, not three.
+  std::vector<std::vector<int>> pieces{{0}, {1}, {2}};
+  std::vector<std::vector<SurfaceTouch>> pressed{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
+                                                 {{Vec3(0.008, 0, -0.005), Vec3::UnitZ()}},
+                                                 {{Vec3(0.004, 0, 0.005), -Vec3::UnitZ()}}};
+  EXPECT_EQ(join_facing_clusters(pieces, pressed, 0.023, 0.04), std::vector<int>{2});
+  EXPECT_EQ(pieces[0], (std::vector<int>{0, 1, 2}));
   // Two layers pressed from the same side are not a stack.
   std::vector<std::vector<int>> same{{0}, {1}};
   std::vector<std::vector<SurfaceTouch>> below{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
@@ -230,4 +238,17 @@ TEST(RigidPatch, APatchOfTwoVerticesPressedFromOppositeSidesHasAFiniteFrame) {
   EXPECT_TRUE(p.center.allFinite());
   EXPECT_TRUE(p.linear_velocity.allFinite());
   EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
+}
+
+TEST(RigidPatch, VerticesAlongALineTakeTheirNormalAboutIt) {
+  // Four vertices along x (a row along a finger's edge) with normals tilted 10° about x from +z:
+  // any plane through the line fits them; the patch's must hold their mean normal.
+  const Vec3 n(0.0, -std::sin(10.0 * M_PI / 180.0), std::cos(10.0 * M_PI / 180.0));
+  std::vector<PatchVertex> v;
+  for (int k = 0; k < 4; ++k) v.push_back({Vec3(0.005 * k, 0.0, 0.0), Vec3::Zero(), n, 1e-4});
+  const std::vector<int> all{0, 1, 2, 3};
+  const RigidPatch p = build_patch(v, all, 0.010, 0.010);
+  EXPECT_NEAR(p.R.col(2).dot(n), 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(p.R.col(0).dot(Vec3::UnitX())), 1.0, 1e-9);  // the long side along x
+  EXPECT_NEAR(p.size.x(), 0.015, 1e-12);
 }
