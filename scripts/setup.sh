@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git pkg-config
-  libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev libmetis-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libdart-dev libdart-utils-dev libdart-utils-urdf-dev libdart-collision-bullet-dev
   libdart-external-ikfast-dev

@@ -86,6 +86,7 @@ json make_summary(const scene::SceneSpec& spec, const scene::CompiledScene& comp
   s["coupling"] = spec.coupling.mode;
   s["dt"] = spec.dt;
   s["steps"] = data.step;
+  s["threads"] = compiled.model.threads;
   long vertices = 0, triangles = 0;
   for (const auto& body : compiled.model.cloths) {
     vertices += body.x_rest.rows();
@@ -142,6 +143,7 @@ int run_scene(const RunOptions& options) {
   scene::SceneSpec spec;
   scene::CompiledScene compiled;
   if (!load_and_compile(options.scene, options.overrides, &options, spec, compiled)) return 1;
+  coupling::set_threads(compiled.model, options.threads);
 
   // Output folder: created only once the input is known to be good.
   const fs::path out(options.out_dir);

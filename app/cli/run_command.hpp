@@ -11,6 +11,7 @@ struct RunOptions {
   std::vector<std::string> overrides;  ///< --set /pointer=value
   double duration{-1.0};               ///< [s], < 0: the scene's
   std::string coupling;                ///< "" : the scene's
+  int threads{1};                      ///< threads of the step's parallel parts
   bool quiet{false};
   bool export_obj{false};
 };

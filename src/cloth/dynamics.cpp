@@ -27,7 +27,7 @@ void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
 
 }  // namespace
 
-void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d) {
+void analyse(const SystemPattern& p, std::span<const int> order, int threads, DirectSystem& d) {
   const int nv = p.num_vertices;
   d.order.assign(order.begin(), order.end());
   std::vector<int> new_of(static_cast<std::size_t>(nv));
@@ -61,7 +61,7 @@ void analyse(const SystemPattern& p, std::span<const int> order, DirectSystem& d
     }
   }
   d.values.assign(d.row.size(), 0.0);
-  d.cholesky.analyze(3 * nv, d.col_start, d.row);
+  d.cholesky.analyze(3 * nv, d.col_start, d.row, threads);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
@@ -226,7 +226,7 @@ void constraint_impulses(const ClothModel& model, std::span<const VelocityConstr
 /// Direct solve into ws.dv; returns the report.
 DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   DirectSystem& d = ws.direct;
-  if (d.order.empty()) analyse(model.pattern, model.pattern.fill_order, d);
+  if (d.order.empty()) analyse(model.pattern, model.pattern.fill_order, model.solver.threads, d);
   DynamicsReport report = factorise(ws.blocks, d);
   if (!report.ok) return report;
   // Solve in the permuted order.

@@ -62,8 +62,10 @@ struct DynamicsWorkspace {
   BlockPcg pcg;
 };
 
-/// Gathers the system's upper triangle in the vertex elimination `order` and analyses it.
-void analyse(const SystemPattern& pattern, std::span<const int> order, DirectSystem& d);
+/// Gathers the system's upper triangle in the vertex elimination `order` and analyses it for
+/// factorisations on `threads` threads.
+void analyse(const SystemPattern& pattern, std::span<const int> order, int threads,
+             DirectSystem& d);
 
 /// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
 /// failed.

@@ -56,7 +56,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
 
   // The order with F last; the analysis is redone only when F changed.
   schur_order(model.pattern, F, slot, ws.schur_order);
-  if (ws.schur_order != ws.schur.order) analyse(model.pattern, ws.schur_order, ws.schur);
+  if (ws.schur_order != ws.schur.order)
+    analyse(model.pattern, ws.schur_order, model.solver.threads, ws.schur);
   seconds += since(start);
 
   // Factorisation and forward substitution: the cloth's own solve.

@@ -35,9 +35,10 @@ struct SolverSettings {
   /// conservation to rounding set their own tolerance (or use cholesky).
   double tolerance{1e-5};
   int max_iterations{2000};  ///< PCG iteration cap
-  /// OpenMP threads for the PCG vector work on large systems (≥ 512 vertices); the result is
-  /// bitwise the same for any value. 1 by default: on a machine shared with other jobs, the
-  /// per-iteration fork/join of several threads was measured 5–20× slower than one thread.
+  /// Threads of the linear solve: the Cholesky factorisation's independent subtrees, the PCG
+  /// vector work on large systems (≥ 512 vertices, OpenMP); the result is bitwise the same for
+  /// any value. 1 by default: on a machine shared with other jobs, the PCG's per-iteration
+  /// fork/join of several threads was measured 5–20× slower than one thread.
   int threads{1};
 };
 

@@ -70,7 +70,14 @@ bool relaxed_merge_pays(int columns, double zero_share) {
 
 }  // namespace
 
-void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row) {
+void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row,
+                             int threads) {
+  DEXCLOTH_DEMAND(threads >= 1);
+  if (threads == 1) {
+    m_pool.reset();
+  } else if (!m_pool || m_pool->threads() != threads) {
+    m_pool = std::make_unique<WorkerPool>(threads);
+  }
   DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
   DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
   for (int j = 0; j < n; ++j)
@@ -186,21 +193,24 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   }
 
   // Panels, the positions of each child's rows below its columns in its parent's front, and
-  // where each value of A lands.
+  // where each value of A lands (grouped by supernode, in A's order within one).
   m_panel_start.assign(1, 0);
   m_unused_upper = 0;
   m_flops = 0.0;
   position.assign(at(n), -1);
   m_relmap.assign(m_rows.size(), -1);
-  m_entry_dest.assign(row.size(), 0);
+  m_entry_start.assign(1, 0);
+  m_entries.clear();
+  std::vector<double> work(at(ns), 0.0);  // flops of each front
   std::size_t max_update = 0;
   for (int s = 0; s < ns; ++s) {
     const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1], w = k2 - k1;
     const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
     m_panel_start.push_back(m_panel_start.back() + at(f) * at(w));
     m_unused_upper += at(w) * at(w - 1) / 2;
-    m_flops += w * (w + 1.0) * (2.0 * w + 1.0) / 6.0 + static_cast<double>(b) * w * (w + 1.0) +
-               static_cast<double>(b) * (b + 1.0) * w;
+    work[at(s)] = w * (w + 1.0) * (2.0 * w + 1.0) / 6.0 + static_cast<double>(b) * w * (w + 1.0) +
+                  static_cast<double>(b) * (b + 1.0) * w;
+    m_flops += work[at(s)];
     max_update = std::max(max_update, at(b) * at(b));
     for (int r = 0; r < f; ++r) position[at(m_rows[at(m_row_start[at(s)] + r)])] = r;
     for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
@@ -211,17 +221,29 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
     }
     for (int j = k1; j < k2; ++j)
       for (int q = lower_start[at(j)]; q < lower_start[at(j) + 1]; ++q)
-        m_entry_dest[at(lower_entry[at(q)])] =
-            m_panel_start[at(s)] + at(j - k1) * at(f) + at(position[at(lower_row[at(q)])]);
+        m_entries.push_back(
+            {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
+    m_entry_start.push_back(m_entries.size());
   }
   m_panel.assign(m_panel_start.back(), 0.0);
+  schedule(sparent, work, max_update);
+  m_gather.assign(at(n), 0.0);
+  m_product.assign(at(n), 0.0);
+}
 
-  // Schedule: a postorder of the supernodal tree (children before parents, each subtree
-  // contiguous), so that the update matrices waiting for their parents form a stack.
+void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector<double>& work,
+                              std::size_t max_update) {
+  const int ns = static_cast<int>(sparent.size());
+  // A postorder of the supernodal tree (children before parents, each subtree contiguous), so
+  // that the update matrices waiting for their parents form a stack.
   m_postorder.clear();
+  std::vector<int> post_index(at(ns)), subtree_size(at(ns), 1);
+  std::vector<double> subtree_work(work);
   std::vector<std::pair<int, int>> path;  // (supernode, next child to visit)
+  std::vector<int> roots;
   for (int root = 0; root < ns; ++root) {
     if (sparent[at(root)] >= 0) continue;
+    roots.push_back(root);
     path.emplace_back(root, m_child_start[at(root)]);
     while (!path.empty()) {
       auto& [s, next] = path.back();
@@ -229,71 +251,150 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
         const int child = m_children[at(next++)];
         path.emplace_back(child, m_child_start[at(child)]);
       } else {
-        m_postorder.push_back(s);
+        const int done = s;
+        post_index[at(done)] = static_cast<int>(m_postorder.size());
+        m_postorder.push_back(done);
         path.pop_back();
+        if (!path.empty()) {
+          subtree_size[at(path.back().first)] += subtree_size[at(done)];
+          subtree_work[at(path.back().first)] += subtree_work[at(done)];
+        }
       }
     }
   }
   DEXCLOTH_DEMAND(static_cast<int>(m_postorder.size()) == ns);
-  m_stack_offset.assign(at(ns), 0);
-  std::size_t top = 0, peak = 0;
-  for (int s : m_postorder) {
-    if (m_child_start[at(s)] < m_child_start[at(s) + 1])
-      top = m_stack_offset[at(m_children[at(m_child_start[at(s)])])];
-    const int w = m_first[at(s) + 1] - m_first[at(s)];
-    const int b = m_row_start[at(s) + 1] - m_row_start[at(s)] - w;
-    m_stack_offset[at(s)] = top;
-    top += at(b) * at(b);
-    peak = std::max(peak, top);
+
+  // Subtrees for the threads: starting from the roots, the heaviest subtree is split (its root
+  // goes to the serial top, its children to the threads) until the subtrees share out within
+  // 10 % (largest first onto the least loaded thread).
+  const int threads = m_pool ? m_pool->threads() : 1;
+  std::vector<int> frontier = roots;
+  std::vector<char> in_top(at(ns), 0);
+  m_tasks.assign(at(threads), {});
+  for (int split = 0;; ++split) {
+    std::sort(frontier.begin(), frontier.end(), [&](int a, int b) {
+      return subtree_work[at(a)] != subtree_work[at(b)] ? subtree_work[at(a)] > subtree_work[at(b)]
+                                                        : a < b;
+    });
+    std::vector<double> load(at(threads), 0.0);
+    for (auto& task : m_tasks) task.clear();
+    for (int r : frontier) {
+      const auto t =
+          at(static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin()));
+      load[t] += subtree_work[at(r)];
+      m_tasks[t].push_back(r);
+    }
+    double total = 0.0;
+    for (double l : load) total += l;
+    const double most = *std::max_element(load.begin(), load.end());
+    m_parallel_share = subtree_work.empty() ? 1.0 : total / m_flops;
+    if (threads == 1 || frontier.empty() || most <= 1.1 * total / threads || split >= 64) break;
+    const int heaviest = frontier.front();
+    if (m_child_start[at(heaviest)] == m_child_start[at(heaviest) + 1]) break;
+    frontier.erase(frontier.begin());
+    in_top[at(heaviest)] = 1;
+    for (int c = m_child_start[at(heaviest)]; c < m_child_start[at(heaviest) + 1]; ++c)
+      frontier.push_back(m_children[at(c)]);
   }
-  m_stack.assign(peak, 0.0);
-  m_front.assign(max_update, 0.0);
-  m_gather.assign(at(n), 0.0);
-  m_product.assign(at(n), 0.0);
+  // Each task's supernodes in postorder; the top after them, in postorder.
+  m_task_order.assign(at(threads), {});
+  for (int t = 0; t < threads; ++t) {
+    std::sort(m_tasks[at(t)].begin(), m_tasks[at(t)].end(),
+              [&](int a, int b) { return post_index[at(a)] < post_index[at(b)]; });
+    for (int r : m_tasks[at(t)])
+      for (int k = post_index[at(r)] - subtree_size[at(r)] + 1; k <= post_index[at(r)]; ++k)
+        m_task_order[at(t)].push_back(m_postorder[at(k)]);
+  }
+  m_top_order.clear();
+  for (int s : m_postorder)
+    if (in_top[at(s)]) m_top_order.push_back(s);
+
+  // Stack offsets: each thread's region, then the top's. A supernode's update sits where its
+  // first child's (of its region) was, its children's being consumed.
+  m_stack_offset.assign(at(ns), 0);
+  std::size_t base = 0;
+  const auto place = [&](const std::vector<int>& order) {
+    std::size_t top = base, peak = base;
+    for (int s : order) {
+      for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
+        const int child = m_children[at(c)];
+        if (in_top[at(child)] == in_top[at(s)]) {
+          top = m_stack_offset[at(child)];
+          break;
+        }
+      }
+      const int w = m_first[at(s) + 1] - m_first[at(s)];
+      const int b = m_row_start[at(s) + 1] - m_row_start[at(s)] - w;
+      m_stack_offset[at(s)] = top;
+      top += at(b) * at(b);
+      peak = std::max(peak, top);
+    }
+    base = peak;
+  };
+  for (const std::vector<int>& order : m_task_order) place(order);
+  place(m_top_order);
+  m_stack.assign(base, 0.0);
+  m_front.assign(at(threads), std::vector<double>(max_update, 0.0));
+  m_failure.assign(at(threads), -1);
+}
+
+int SparseCholesky::factor_front(int s, std::span<const double> values, double* U) {
+  const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
+  const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
+  double* P = m_panel.data() + m_panel_start[at(s)];
+  // The front: this supernode's columns of A, ...
+  std::fill(P, P + at(f) * at(w), 0.0);
+  std::fill(U, U + at(b) * at(b), 0.0);
+  for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
+    P[m_entries[k].offset] += values[at(m_entries[k].entry)];
+  // ... and the extend-add of its children's update matrices (lower triangles).
+  for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
+    const int child = m_children[at(c)];
+    const int cw = m_first[at(child) + 1] - m_first[at(child)];
+    const int cb = m_row_start[at(child) + 1] - m_row_start[at(child)] - cw;
+    const int* map = m_relmap.data() + m_row_start[at(child)] + cw;
+    const double* Uc = m_stack.data() + m_stack_offset[at(child)];
+    for (int q = 0; q < cb; ++q) {
+      const int pc = map[q];
+      const double* column = Uc + at(q) * at(cb);
+      double* dest = pc < w ? P + at(pc) * at(f) : U + at(pc - w) * at(b) - w;
+      for (int r = q; r < cb; ++r) dest[map[r]] += column[r];
+    }
+  }
+  // Dense partial factorisation: L₁₁ = chol(F₁₁), L₂₁ = F₂₁·L₁₁⁻ᵀ, U = F₂₂ − L₂₁·L₂₁ᵀ.
+  const double one = 1.0, minus_one = -1.0;
+  int info = 0;
+  dpotrf_("L", &w, P, &f, &info, 1);
+  if (info != 0) return k1 + std::max(0, info - 1);
+  for (int j = 0; j < w; ++j)
+    if (!std::isfinite(P[at(j) * at(f) + at(j)])) return k1 + j;
+  if (b > 0) {
+    dtrsm_("R", "L", "T", "N", &b, &w, &one, P, &f, P + w, &f, 1, 1, 1, 1);
+    dsyrk_("L", "N", &b, &w, &minus_one, P + w, &f, &one, U, &b, 1, 1);
+    std::copy(U, U + at(b) * at(b), m_stack.data() + m_stack_offset[at(s)]);
+  }
+  return -1;
 }
 
 int SparseCholesky::factorize(std::span<const double> values) {
-  DEXCLOTH_DEMAND(values.size() == m_entry_dest.size());
-  std::fill(m_panel.begin(), m_panel.end(), 0.0);
-  for (std::size_t k = 0; k < values.size(); ++k) m_panel[m_entry_dest[k]] += values[k];
-  const double one = 1.0, minus_one = -1.0;
-  for (int s : m_postorder) {
-    const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
-    const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
-    double* P = m_panel.data() + m_panel_start[at(s)];
-    double* U = m_front.data();
-    std::fill(U, U + at(b) * at(b), 0.0);
-    // Extend-add the children's update matrices (lower triangles) into this front.
-    for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
-      const int child = m_children[at(c)];
-      const int cw = m_first[at(child) + 1] - m_first[at(child)];
-      const int cb = m_row_start[at(child) + 1] - m_row_start[at(child)] - cw;
-      const int* map = m_relmap.data() + m_row_start[at(child)] + cw;
-      const double* Uc = m_stack.data() + m_stack_offset[at(child)];
-      for (int q = 0; q < cb; ++q) {
-        const int pc = map[q];
-        const double* column = Uc + at(q) * at(cb);
-        if (pc < w) {
-          double* dest = P + at(pc) * at(f);
-          for (int r = q; r < cb; ++r) dest[map[r]] += column[r];
-        } else {
-          double* dest = U + at(pc - w) * at(b) - w;
-          for (int r = q; r < cb; ++r) dest[map[r]] += column[r];
-        }
-      }
-    }
-    // Dense partial factorisation: L₁₁ = chol(F₁₁), L₂₁ = F₂₁·L₁₁⁻ᵀ, U = F₂₂ − L₂₁·L₂₁ᵀ.
-    int info = 0;
-    dpotrf_("L", &w, P, &f, &info, 1);
-    if (info != 0) return k1 + std::max(0, info - 1);
-    for (int j = 0; j < w; ++j)
-      if (!std::isfinite(P[at(j) * at(f) + at(j)])) return k1 + j;
-    if (b > 0) {
-      dtrsm_("R", "L", "T", "N", &b, &w, &one, P, &f, P + w, &f, 1, 1, 1, 1);
-      dsyrk_("L", "N", &b, &w, &minus_one, P + w, &f, &one, U, &b, 1, 1);
-      std::copy(U, U + at(b) * at(b), m_stack.data() + m_stack_offset[at(s)]);
-    }
+  DEXCLOTH_DEMAND(values.size() == m_entries.size());
+  // The threads' subtrees (each stops at its first failed pivot), then the top.
+  auto subtrees = [&](int t) {
+    m_failure[at(t)] = -1;
+    for (int s : m_task_order[at(t)])
+      if ((m_failure[at(t)] = factor_front(s, values, m_front[at(t)].data())) >= 0) return;
+  };
+  if (m_pool) {
+    m_pool->run(subtrees);
+  } else {
+    subtrees(0);
   }
+  int failed = -1;
+  for (int f : m_failure)
+    if (f >= 0 && (failed < 0 || f < failed)) failed = f;
+  if (failed >= 0) return failed;
+  for (int s : m_top_order)
+    if (const int f = factor_front(s, values, m_front[0].data()); f >= 0) return f;
   return -1;
 }
 

@@ -7,8 +7,11 @@
 /// the buffers `analyze` allocated.
 #include <Eigen/Core>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
+
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::cloth {
 
@@ -17,7 +20,9 @@ class SparseCholesky {
   /// Symbolic analysis of an n×n pattern given by its upper triangle (diagonal included) in
   /// compressed-column form: `col_start` (n+1) and `row` (one entry per stored value, row ≤
   /// column, any order within a column). The unknowns are eliminated in their given order.
-  void analyze(int n, std::span<const int> col_start, std::span<const int> row);
+  /// Factorisations run on `threads` threads: independent subtrees of the elimination tree in
+  /// parallel, the top serially; the factor is bitwise the same for any thread count.
+  void analyze(int n, std::span<const int> col_start, std::span<const int> row, int threads = 1);
 
   /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on
   /// success, else the first column whose pivot is not positive and finite.
@@ -43,6 +48,9 @@ class SparseCholesky {
   double factor_flops() const { return m_flops; }
   /// Number of supernodes.
   int supernodes() const { return static_cast<int>(m_first.size()) - 1; }
+  /// Share of the factorisation's flops in the subtrees the threads share out (the rest, the
+  /// top of the tree, runs on one thread); 1 for one thread.
+  double parallel_share() const { return m_parallel_share; }
 
  private:
   int m_n{};
@@ -54,13 +62,33 @@ class SparseCholesky {
   std::vector<double> m_panel;
   std::size_t m_unused_upper{};  // entries above the diagonal of the panels' pivot blocks
   double m_flops{};
+  double m_parallel_share{1.0};
+  /// Builds the multifrontal schedule (see the members below) from the supernodal tree
+  /// (`sparent`, −1 for roots), each front's flops and the largest update matrix.
+  void schedule(const std::vector<int>& sparent, const std::vector<double>& work,
+                std::size_t max_update);
+  /// Assembles and partially factorises supernode s's front (update matrix built in `U`);
+  /// returns −1, or the column of a failed pivot.
+  int factor_front(int s, std::span<const double> values, double* U);
+
   // Multifrontal schedule: supernodes children first (a postorder), each one's update matrix
   // at m_stack_offset[s] of the stack; its children's update rows land at m_relmap positions
-  // (per supernode, one per row below its columns) of the parent's front.
-  std::vector<int> m_postorder, m_child_start, m_children, m_relmap;
+  // (per supernode, one per row below its columns) of the parent's front. Thread t factorises
+  // the subtrees m_tasks[t] (their supernodes in m_task_order[t], update matrices in its own
+  // region of the stack), then the supernodes above them, m_top_order, are done serially.
+  std::vector<int> m_postorder, m_child_start, m_children, m_relmap, m_top_order;
+  std::vector<std::vector<int>> m_tasks, m_task_order;
   std::vector<std::size_t> m_stack_offset;
-  std::vector<std::size_t> m_entry_dest;  // each value of A: its offset in m_panel
-  std::vector<double> m_stack, m_front;
+  struct Entry {
+    int entry{};           ///< index of the value in A
+    std::size_t offset{};  ///< its place in its supernode's panel
+  };
+  std::vector<Entry> m_entries;            // A's values, grouped by supernode
+  std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
+  std::vector<double> m_stack;
+  std::vector<std::vector<double>> m_front;         // per thread: the update matrix being built
+  std::vector<int> m_failure;                       // per thread: a failed pivot's column, or −1
+  std::unique_ptr<WorkerPool> m_pool;               // none for one thread
   mutable std::vector<double> m_gather, m_product;  // solve scratch
 };
 

@@ -1,10 +1,9 @@
 #include "cloth/system_pattern.hpp"
 
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <utility>
 
+#include "cloth/fill_order.hpp"
 #include "core/assert.hpp"
 
 namespace dexcloth::cloth {
@@ -84,17 +83,19 @@ SystemPattern build_system_pattern(int num_vertices, const Triangles& faces,
     }
   }
 
-  // Fill-reducing order of the vertex graph (AMD); Eigen returns new-to-old indices.
-  Eigen::SparseMatrix<double> graph(num_vertices, num_vertices);
-  {
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(pairs.size());
-    for (const auto& [c, r] : pairs) entries.emplace_back(r, c, 1.0);
-    graph.setFromTriplets(entries.begin(), entries.end());
+  // Fill-reducing order of the vertex graph (3×3 blocks).
+  Graph graph;
+  graph.start = p.col_start;
+  for (int c = 0; c < num_vertices; ++c) {
+    graph.start[static_cast<std::size_t>(c) + 1] = graph.start[static_cast<std::size_t>(c)];
+    for (int b = p.col_start[static_cast<std::size_t>(c)];
+         b < p.col_start[static_cast<std::size_t>(c) + 1]; ++b)
+      if (p.row[static_cast<std::size_t>(b)] != c) {
+        graph.neighbour.push_back(p.row[static_cast<std::size_t>(b)]);
+        ++graph.start[static_cast<std::size_t>(c) + 1];
+      }
   }
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
-  Eigen::AMDOrdering<int>()(graph, perm);
-  p.fill_order.assign(perm.indices().data(), perm.indices().data() + perm.size());
+  p.fill_order = fill_reducing_order(graph, 3);
   return p;
 }
 

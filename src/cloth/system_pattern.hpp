@@ -20,8 +20,8 @@ struct SystemPattern {
   std::vector<std::array<int, 9>>
       face_blocks;  ///< per face: block (corner a, corner b) at [3a + b]
   std::vector<std::array<int, 16>> hinge_blocks;  ///< per hinge: block (a, b) at [4a + b]
-  /// Approximate-minimum-degree elimination order of the vertices: fill_order[k] is the vertex
-  /// eliminated k-th (used by the direct solver).
+  /// Fill-reducing elimination order of the vertices (fill_reducing_order): fill_order[k] is
+  /// the vertex eliminated k-th (used by the direct solver).
   std::vector<int> fill_order;
 
   /// Number of 3×3 blocks.

@@ -1,5 +1,7 @@
 #include "coupling/world.hpp"
 
+#include "core/assert.hpp"
+
 namespace dexcloth::coupling {
 
 WorldData make_data(const WorldModel& model, RigidSide rigid) {
@@ -30,6 +32,12 @@ WorldData make_data(const WorldModel& model, RigidSide rigid) {
     data.meshes.push_back(std::move(mesh));
   }
   return data;
+}
+
+void set_threads(WorldModel& model, int threads) {
+  DEXCLOTH_DEMAND(threads >= 1);
+  model.threads = threads;
+  for (ClothBody& body : model.cloths) body.model.solver.threads = threads;
 }
 
 bool state_is_finite(const WorldData& data) {

@@ -56,7 +56,11 @@ struct WorldModel {
   bool self_collision{true};
   ClusterParams clusters;               ///< patch clustering thresholds (paper §5)
   std::vector<ClothBody> cloths;
+  int threads{1};  ///< threads of the step's parallel parts (set_threads); results do not depend on it
 };
+
+/// Runs the step's parallel parts (each cloth's linear solve, ...) on `threads` ≥ 1 threads.
+void set_threads(WorldModel& model, int threads);
 
 /// Wall-clock seconds spent per part of the step (paper Table 1).
 struct Timings {

@@ -1,0 +1,45 @@
+#pragma once
+/// A fixed set of worker threads for coarse parallel tasks (a factorisation's subtrees, a
+/// collision pass's halves). Workers sleep on a condition variable between tasks, so idle
+/// threads cost nothing on a machine shared with other jobs (OpenMP's spinning waits did), and
+/// running a task allocates nothing.
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace dexcloth {
+
+class WorkerPool {
+ public:
+  /// A pool running tasks on `threads` threads in all: the caller and threads − 1 workers.
+  explicit WorkerPool(int threads = 1);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  /// Threads a task runs on (≥ 1).
+  int threads() const { return static_cast<int>(m_workers.size()) + 1; }
+
+  /// Calls task(t) for t = 0 .. threads() − 1, t = 0 on the calling thread, and returns when
+  /// every call has. Calls must not throw. Not reentrant.
+  template <typename Task>
+  void run(Task& task) {
+    dispatch([](void* context, int t) { (*static_cast<Task*>(context))(t); }, &task);
+  }
+
+ private:
+  void dispatch(void (*function)(void*, int), void* context);
+  void work(int t);
+
+  std::vector<std::thread> m_workers;
+  std::mutex m_mutex;
+  std::condition_variable m_start, m_done;
+  void (*m_function)(void*, int){};
+  void* m_context{};
+  long m_generation{};  ///< tasks dispatched so far
+  int m_running{};      ///< workers still on the current task
+  bool m_stop{};
+};
+
+}  // namespace dexcloth
