@@ -179,6 +179,12 @@ void rigid_step(WorldData& data) {
 
 void step(const WorldModel& model, WorldData& data) {
   const auto start = std::chrono::steady_clock::now();
+  // The threads of the collision searches (the cloth's linear solves have their own).
+  if (model.threads > 1 && (!data.pool || data.pool->threads() != model.threads))
+    data.pool = std::make_unique<WorkerPool>(model.threads);
+  WorkerPool* pool = model.threads > 1 ? data.pool.get() : nullptr;
+  data.contacts.candidates.set_pool(pool);
+  data.impact_zones.set_pool(pool);
   Stopwatch clock;
   const int cloths = static_cast<int>(model.cloths.size());
   const bool bai_liu = model.mode == CouplingMode::bai_liu;

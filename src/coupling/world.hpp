@@ -114,6 +114,7 @@ struct WorldData {
   std::vector<std::vector<SurfaceTouch>> cluster_touches;  ///< rigid surfaces touching each
                                                           ///< cluster's cloth
   Points normals;                       ///< vertex normals scratch
+  std::unique_ptr<WorkerPool> pool;     ///< the step's threads when WorldModel::threads > 1
 };
 
 /// Initial data: cloths at rest, time zero, the rigid world as built by the caller.

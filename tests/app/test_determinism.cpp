@@ -1,7 +1,7 @@
 /// Same input, same output: a run's recording and summary do not depend on the output path, the
-/// working directory, the order of the arguments or the environment. They did: DART rebuilt
-/// the resized patch boxes' collision objects in the order of their skeletons' heap addresses,
-/// which the length of the output path changed, and pinch_napkin diverged at 2.7 s.
+/// working directory, the order of the arguments, the environment or the number of threads. They
+/// did: DART rebuilt the resized patch boxes' collision objects in the order of their skeletons'
+/// heap addresses, which the length of the output path changed, and pinch_napkin diverged at 2.7 s.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -39,10 +39,11 @@ std::string frames_without_timings(std::string bytes) {
   return bytes;
 }
 
-/// summary.json without its wall-clock figures.
+/// summary.json without its wall-clock figures and thread count.
 nlohmann::json without_timings(nlohmann::json summary) {
   summary.erase("timing_s");
   summary.erase("step_ms");
+  summary.erase("threads");
   return summary;
 }
 
@@ -87,13 +88,13 @@ TEST(Determinism, APinchRunIsTheSameWhateverThePathDirectoryArgumentOrderOrEnvir
     return cwd;
   };
   // A short output path (a string short enough to need no heap block), a long one (these two
-  // gave different runs before the fix), and the arguments reordered with two no-op overrides
-  // and a large extra environment variable.
+  // gave different runs before the fix), and the arguments reordered with two no-op overrides,
+  // a large extra environment variable and two threads instead of one.
   const std::string long_out = "a_much_longer_output_path_than_the_first/with/levels";
-  const auto a = run("a", "run " + scene + " --quiet --out n1", "") / "n1";
-  const auto b = run("b", "run " + scene + " --quiet --out " + long_out, "") / long_out;
+  const auto a = run("a", "run " + scene + " --quiet --threads 1 --out n1", "") / "n1";
+  const auto b = run("b", "run " + scene + " --threads 1 --quiet --out " + long_out, "") / long_out;
   const auto c = run("c",
-                     "run --set /bodies/0/friction=0.5 --out " + long_out +
+                     "run --threads 2 --set /bodies/0/friction=0.5 --out " + long_out +
                          " --set /cloths/0/material/friction=0.5 --quiet " + scene,
                      "DEXCLOTH_DETERMINISM_PADDING=" + std::string(3000, 'x') + " ") /
                  long_out;
@@ -104,6 +105,7 @@ TEST(Determinism, APinchRunIsTheSameWhateverThePathDirectoryArgumentOrderOrEnvir
     EXPECT_EQ(without_timings(read_json(a / "summary.json")),
               without_timings(read_json(other / "summary.json")))
         << other;
+    EXPECT_EQ(read_json(other / "summary.json")["threads"], other == c ? 2 : 1);
     EXPECT_EQ(read_bytes(a / "recording" / "recording.json"),
               read_bytes(other / "recording" / "recording.json"))
         << other;

@@ -1,6 +1,7 @@
 #include "cloth/collision/bvh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 
 #include "cloth/collision/mesh_topology.hpp"
@@ -39,11 +40,13 @@ int Bvh::build_range(int* begin, int* end, const std::vector<Vec3>& centroids) {
   (hi - lo).maxCoeff(&axis);
   int* mid = begin + (end - begin) / 2;
   std::nth_element(begin, mid, end, [&](int f, int g) {
-    return centroids[static_cast<std::size_t>(f)][axis] < centroids[static_cast<std::size_t>(g)][axis];
+    return centroids[static_cast<std::size_t>(f)][axis] <
+           centroids[static_cast<std::size_t>(g)][axis];
   });
   build_range(begin, mid, centroids);
   const int right = build_range(mid, end, centroids);
   m_nodes[static_cast<std::size_t>(index)].right = right;
+  m_nodes[static_cast<std::size_t>(index)].faces = static_cast<int>(end - begin);
   return index;
 }
 
@@ -95,6 +98,11 @@ struct BvhTraversal {
   static double extent(const Bvh::Node& n) {
     return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]);
   }
+  /// Whether pair(p, q) descends p (else q): the bigger inner node, or the only one.
+  static bool descends_first(const Bvh::Node& p, const Bvh::Node& q) {
+    const bool leaf_p = p.face >= 0, leaf_q = q.face >= 0;
+    return leaf_q || (!leaf_p && extent(p) >= extent(q));
+  }
 
   // Pairs between subtree i of `na` and subtree j of `nb`.
   void pair(int i, int j) {
@@ -108,7 +116,7 @@ struct BvhTraversal {
       return;
     }
     // Descend the bigger (or the only inner) node.
-    if (leaf_q || (!leaf_p && extent(p) >= extent(q))) {
+    if (descends_first(p, q)) {
       pair(i + 1, j);
       pair(p.right, j);
     } else {
@@ -138,6 +146,62 @@ void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_ad
   if (bvh.empty()) return;
   BvhTraversal t{bvh.m_nodes, bvh.m_nodes, skip_adjacent ? &faces : nullptr, out};
   t.self(0);
+}
+
+void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out) {
+  out.clear();
+  if (a.empty() || b.empty()) return;
+  out.push_back({0, 0, self});
+  const auto& na = a.m_nodes;
+  DEXCLOTH_DEMAND(!self || &a == &b);
+  const auto& nb = b.m_nodes;
+  // The pieces a query's recursion makes of it, in its order (BvhTraversal::self and pair);
+  // none for a pair of disjoint boxes or of two leaves, which split no further.
+  const auto size = [&](const BvhQuery& q) {
+    const Bvh::Node& p = na[static_cast<std::size_t>(q.i)];
+    if (q.self) return p.face >= 0 ? 0.0 : static_cast<double>(p.faces) * p.faces;
+    const Bvh::Node& r = nb[static_cast<std::size_t>(q.j)];
+    if ((p.face >= 0 && r.face >= 0) || !BvhTraversal::overlap(p, r)) return 0.0;
+    return static_cast<double>(p.faces) * r.faces;
+  };
+  while (static_cast<int>(out.size()) < pieces) {
+    std::size_t biggest = 0;
+    for (std::size_t k = 1; k < out.size(); ++k)
+      if (size(out[k]) > size(out[biggest])) biggest = k;
+    if (size(out[biggest]) == 0.0) break;
+    const BvhQuery q = out[biggest];
+    const Bvh::Node& p = na[static_cast<std::size_t>(q.i)];
+    std::array<BvhQuery, 3> parts;
+    std::size_t count = 0;
+    if (q.self) {
+      parts = {BvhQuery{q.i + 1, q.i + 1, true}, BvhQuery{p.right, p.right, true},
+               BvhQuery{q.i + 1, p.right, false}};
+      count = 3;
+    } else if (BvhTraversal::descends_first(p, nb[static_cast<std::size_t>(q.j)])) {
+      parts[0] = {q.i + 1, q.j, false};
+      parts[1] = {p.right, q.j, false};
+      count = 2;
+    } else {
+      const Bvh::Node& r = nb[static_cast<std::size_t>(q.j)];
+      parts[0] = {q.i, q.j + 1, false};
+      parts[1] = {q.i, r.right, false};
+      count = 2;
+    }
+    out.erase(out.begin() + static_cast<std::ptrdiff_t>(biggest));
+    out.insert(out.begin() + static_cast<std::ptrdiff_t>(biggest), parts.begin(),
+               parts.begin() + static_cast<std::ptrdiff_t>(count));
+  }
+}
+
+void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
+               std::vector<FacePair>& out) {
+  if (a.empty() || b.empty()) return;
+  BvhTraversal t{a.m_nodes, b.m_nodes, faces, out};
+  if (query.self) {
+    t.self(query.i);
+  } else {
+    t.pair(query.i, query.j);
+  }
 }
 
 }  // namespace dexcloth::collision

@@ -13,6 +13,14 @@ struct FacePair {
   int b{};
 };
 
+/// A piece of an overlap query (split_query): the pairs between subtree `i` of the first tree
+/// and subtree `j` of the second, or, for `self`, the unordered pairs within subtree `i`.
+struct BvhQuery {
+  int i{};
+  int j{};
+  bool self{};
+};
+
 /// AABB tree with one triangle per leaf. Box of face f = bounding box of its three vertices at x0
 /// and x1 (the swept triangle, for continuous collision detection), inflated by `margin` [m].
 class Bvh {
@@ -33,6 +41,15 @@ class Bvh {
   /// unordered pair once; with `skip_adjacent`, pairs sharing a vertex of `faces` are left out.
   friend void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                                      std::vector<FacePair>& out);
+  /// Splits the query of overlapping_faces(a, b) (or, with `self` and b the same tree as a, of
+  /// self_overlapping_faces(a)) into at least `pieces` pieces where the trees allow, the biggest split first, such that
+  /// the pieces' outputs (run_query), concatenated in order, are the whole query's in its order.
+  friend void split_query(const Bvh& a, const Bvh& b, bool self, int pieces,
+                          std::vector<BvhQuery>& out);
+  /// Appends the pairs of one piece of a query to `out` (skipping faces adjacent in `faces`
+  /// when it is not null, as self_overlapping_faces with skip_adjacent).
+  friend void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
+                        std::vector<FacePair>& out);
 
  private:
   struct Node {
@@ -40,6 +57,7 @@ class Bvh {
     double hi[3]{};
     int right{-1};  ///< index of the right child (the left child is the next node); -1 for a leaf
     int face{-1};   ///< face of a leaf, -1 for an inner node
+    int faces{1};   ///< faces in the subtree
   };
   int build_range(int* begin, int* end, const std::vector<Vec3>& centroids);
   void face_box(Node& node, const Triangles& faces, const Points& x0, const Points& x1,
@@ -54,5 +72,8 @@ class Bvh {
 void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out);
+void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out);
+void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
+               std::vector<FacePair>& out);
 
 }  // namespace dexcloth::collision

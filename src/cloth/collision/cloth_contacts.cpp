@@ -7,7 +7,8 @@ namespace dexcloth::collision {
 void detect_cloth_contacts(const std::vector<CollisionMesh*>& meshes,
                            const RepulsionOptions& options, ClothContacts& data) {
   const std::vector<const CollisionMesh*> view(meshes.begin(), meshes.end());
-  find_proximities(view, options.thickness, data.candidates, data.proximities);
+  find_proximities(view, options.thickness, data.candidates, data.proximities,
+                   data.proximity_scratch);
   apply_repulsion(meshes, data.proximities, options, data.contacts);
 }
 

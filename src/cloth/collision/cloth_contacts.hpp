@@ -12,9 +12,10 @@ namespace dexcloth::collision {
 
 /// Mutable data of contact detection, kept between steps (broad-phase trees, scratch, results).
 struct ClothContacts {
-  CollisionCandidates candidates;        ///< broad phase (trees built once, refit per step)
-  std::vector<Proximity> proximities;    ///< pairs closer than the thickness at x0
-  std::vector<VertexContact> contacts;   ///< per-vertex records of the last detection
+  CollisionCandidates candidates;      ///< broad phase (trees built once, refit per step)
+  std::vector<Proximity> proximities;  ///< pairs closer than the thickness at x0
+  std::vector<std::vector<Proximity>> proximity_scratch;  ///< per chunk of the parallel search
+  std::vector<VertexContact> contacts;  ///< per-vertex records of the last detection
 };
 
 /// Vertices of one mesh in contact, sorted and unique.

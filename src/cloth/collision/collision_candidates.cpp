@@ -67,7 +67,8 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     std::vector<PrimitiveBox>& eb = m_edge_boxes[m];
     eb.resize(edges.size());
     for (std::size_t e = 0; e < edges.size(); ++e)
-      eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])], vb[static_cast<std::size_t>(edges[e][1])]);
+      eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])],
+                    vb[static_cast<std::size_t>(edges[e][1])]);
   }
   // Primitive pairs of every relevant mesh pair.
   m_vf.clear();
@@ -82,15 +83,66 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
 }
 
 void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb) {
+  const Bvh& ta = m_bvh[static_cast<std::size_t>(ma)];
+  const Bvh& tb = m_bvh[static_cast<std::size_t>(mb)];
+  const bool self = ma == mb;
+  const int threads = m_pool ? m_pool->threads() : 1;
+  // Overlapping faces: the query in pieces shared round-robin among the threads, their pairs
+  // concatenated in the pieces' order (the order of the whole query).
+  split_query(ta, tb, self, threads > 1 ? 8 * threads : 1, m_queries);
+  const std::size_t pieces = std::max(m_queries.size(), static_cast<std::size_t>(4 * threads));
+  if (m_piece_pairs.size() < pieces) {
+    m_piece_pairs.resize(pieces);
+    m_piece_vf.resize(pieces);
+    m_piece_ee.resize(pieces);
+  }
+  auto find_faces = [&](int t) {
+    for (std::size_t k = static_cast<std::size_t>(t); k < m_queries.size();
+         k += static_cast<std::size_t>(threads)) {
+      m_piece_pairs[k].clear();
+      run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
+    }
+  };
+  if (m_pool) {
+    m_pool->run(find_faces);
+  } else {
+    find_faces(0);
+  }
+  m_face_pairs.clear();
+  for (std::size_t k = 0; k < m_queries.size(); ++k)
+    m_face_pairs.insert(m_face_pairs.end(), m_piece_pairs[k].begin(), m_piece_pairs[k].end());
+
+  // Their primitive pairs: the face pairs in `pieces` consecutive chunks, likewise.
+  const std::size_t n = m_face_pairs.size();
+  auto find_primitives = [&](int t) {
+    for (std::size_t c = static_cast<std::size_t>(t); c < pieces;
+         c += static_cast<std::size_t>(threads)) {
+      m_piece_vf[c].clear();
+      m_piece_ee[c].clear();
+      primitive_pairs(meshes, ma, mb, n * c / pieces, n * (c + 1) / pieces, m_piece_vf[c],
+                      m_piece_ee[c]);
+    }
+  };
+  if (m_pool) {
+    m_pool->run(find_primitives);
+  } else {
+    find_primitives(0);
+  }
+  for (std::size_t c = 0; c < pieces; ++c) {
+    m_vf.insert(m_vf.end(), m_piece_vf[c].begin(), m_piece_vf[c].end());
+    m_ee.insert(m_ee.end(), m_piece_ee[c].begin(), m_piece_ee[c].end());
+  }
+}
+
+void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*>& meshes, int ma,
+                                          int mb, std::size_t first, std::size_t end,
+                                          std::vector<VertexFacePair>& vf,
+                                          std::vector<EdgeEdgePair>& ee) const {
   const CollisionMesh& A = *meshes[static_cast<std::size_t>(ma)];
   const CollisionMesh& B = *meshes[static_cast<std::size_t>(mb)];
   const MeshTopology& ta = m_topology[static_cast<std::size_t>(ma)];
   const MeshTopology& tb = m_topology[static_cast<std::size_t>(mb)];
   const bool self = ma == mb;
-  m_face_pairs.clear();
-  if (self) self_overlapping_faces(m_bvh[static_cast<std::size_t>(ma)], A.faces, false, m_face_pairs);
-  else overlapping_faces(m_bvh[static_cast<std::size_t>(ma)], m_bvh[static_cast<std::size_t>(mb)], m_face_pairs);
-
   const std::vector<PrimitiveBox>& vba = m_vertex_boxes[static_cast<std::size_t>(ma)];
   const std::vector<PrimitiveBox>& vbb = m_vertex_boxes[static_cast<std::size_t>(mb)];
   const std::vector<PrimitiveBox>& eba = m_edge_boxes[static_cast<std::size_t>(ma)];
@@ -104,19 +156,20 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
     const std::uint8_t owned = vt.owned_vertices[static_cast<std::size_t>(fv)];
     if (owned == 0) return;
     const std::array<int, 3> face{fm.faces(ff, 0), fm.faces(ff, 1), fm.faces(ff, 2)};
-    const PrimitiveBox fbox = merge(merge(fb[static_cast<std::size_t>(face[0])],
-                                          fb[static_cast<std::size_t>(face[1])]),
-                                    fb[static_cast<std::size_t>(face[2])]);
+    const PrimitiveBox fbox =
+        merge(merge(fb[static_cast<std::size_t>(face[0])], fb[static_cast<std::size_t>(face[1])]),
+              fb[static_cast<std::size_t>(face[2])]);
     for (int k = 0; k < 3; ++k) {
       if ((owned & (1u << k)) == 0) continue;
       const int v = vm.faces(fv, k);
       if (self && (v == face[0] || v == face[1] || v == face[2])) continue;
       if (!overlap(vb[static_cast<std::size_t>(v)], fbox)) continue;
-      m_vf.push_back({vmi, v, fmi, ff});
+      vf.push_back({vmi, v, fmi, ff});
     }
   };
 
-  for (const FacePair& fp : m_face_pairs) {
+  for (std::size_t k = first; k < end; ++k) {
+    const FacePair& fp = m_face_pairs[k];
     vertex_face(A, ta, vba, ma, fp.a, B, vbb, mb, fp.b);
     vertex_face(B, tb, vbb, mb, fp.b, A, vba, ma, fp.a);
     // Owned edges of one face against owned edges of the other.
@@ -133,7 +186,7 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
         const int eb = tb.face_edges[static_cast<std::size_t>(fp.b)][static_cast<std::size_t>(j)];
         if (self && shares_vertex(va, tb.edges[static_cast<std::size_t>(eb)])) continue;
         if (!overlap(abox, ebb[static_cast<std::size_t>(eb)])) continue;
-        m_ee.push_back({ma, ea, mb, eb});
+        ee.push_back({ma, ea, mb, eb});
       }
     }
   }

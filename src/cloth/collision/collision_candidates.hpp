@@ -6,6 +6,7 @@
 #include "cloth/collision/bvh.hpp"
 #include "cloth/collision/collision_mesh.hpp"
 #include "cloth/collision/mesh_topology.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
 
@@ -45,6 +46,11 @@ class CollisionCandidates {
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
   void reset() { m_topology.clear(); }
+  /// Runs the pair searches on `pool`'s threads (null: the calling thread only). The pairs found,
+  /// and their order, do not depend on it.
+  void set_pool(WorkerPool* pool) { m_pool = pool; }
+  /// The pool set by set_pool, or null.
+  WorkerPool* pool() const { return m_pool; }
 
   /// Vertex–face pairs found by the last `update`.
   const std::vector<VertexFacePair>& vertex_face() const { return m_vf; }
@@ -55,7 +61,16 @@ class CollisionCandidates {
 
  private:
   void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb);
+  /// The vertex–face and edge–edge pairs of face pairs [first, end) of m_face_pairs.
+  void primitive_pairs(const std::vector<const CollisionMesh*>& meshes, int ma, int mb,
+                       std::size_t first, std::size_t end, std::vector<VertexFacePair>& vf,
+                       std::vector<EdgeEdgePair>& ee) const;
 
+  WorkerPool* m_pool{};
+  std::vector<BvhQuery> m_queries;                   // pieces of a face-pair query
+  std::vector<std::vector<FacePair>> m_piece_pairs;  // each piece's face pairs
+  std::vector<std::vector<VertexFacePair>> m_piece_vf;
+  std::vector<std::vector<EdgeEdgePair>> m_piece_ee;
   std::vector<MeshTopology> m_topology;
   std::vector<Bvh> m_bvh;
   std::vector<std::vector<PrimitiveBox>> m_vertex_boxes;  // per mesh, per vertex

@@ -55,6 +55,9 @@ class ImpactZoneSolver {
   /// aborts; every fallback and any impact left after `max_iterations` is reported in warnings.
   ImpactZoneReport resolve(const std::vector<CollisionMesh*>& meshes,
                            const ImpactZoneOptions& options);
+  /// Runs the broad phase on `pool`'s threads (null: the calling thread); see
+  /// CollisionCandidates::set_pool.
+  void set_pool(WorkerPool* pool) { m_candidates.set_pool(pool); }
 
  private:
   struct Corner {

@@ -27,8 +27,8 @@ constexpr double kMinAcrossCosine = 0.5;
 
 bool across_surface(const Vec3& gap, const Vec3& direction) {
   const double g = gap.norm(), d = direction.norm();
-  if (g < 1e-14) return true;             // touching: keep, the normal comes from geometry
-  if (d < 1e-14 * (1.0 + g)) return false; // degenerate face or parallel edges
+  if (g < 1e-14) return true;               // touching: keep, the normal comes from geometry
+  if (d < 1e-14 * (1.0 + g)) return false;  // degenerate face or parallel edges
   return std::abs(gap.dot(direction)) >= kMinAcrossCosine * g * d;
 }
 
@@ -59,67 +59,107 @@ bool rest_neighbours_ee(const CollisionMesh& ma, const CollisionMesh& mb,
   return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm() < kFoldLength * thickness;
 }
 
+/// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
+void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes, const VertexFacePair& c,
+                           double thickness, std::vector<Proximity>& out) {
+  const CollisionMesh& vm = *meshes[static_cast<std::size_t>(c.vertex_mesh)];
+  const CollisionMesh& fm = *meshes[static_cast<std::size_t>(c.face_mesh)];
+  const int a = fm.faces(c.face, 0), b = fm.faces(c.face, 1), cc = fm.faces(c.face, 2);
+  const Vec3 p = row(vm, c.vertex), xa = row(fm, a), xb = row(fm, b), xc = row(fm, cc);
+  const Vec3 bary = closest_point_triangle(p, xa, xb, xc);
+  const Vec3 gap = p - (bary[0] * xa + bary[1] * xb + bary[2] * xc);
+  const double dist = gap.norm();
+  if (dist >= thickness) return;
+  const bool cloth_pair = !vm.obstacle && !fm.obstacle;
+  if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) return;
+  if (rest_neighbours_vf(vm, fm, c.vertex, {a, b, cc}, thickness)) return;
+  Proximity prox;
+  prox.edge_edge = false;
+  prox.mesh = {c.vertex_mesh, c.face_mesh};
+  prox.corner = {c.vertex, a, b, cc};
+  prox.first = c.vertex;
+  prox.second = c.face;
+  prox.w = {1.0, -bary[0], -bary[1], -bary[2]};
+  prox.normal = contact_normal(gap, (xb - xa).cross(xc - xa));
+  prox.distance = dist;
+  out.push_back(prox);
+}
+
+/// The proximity of edge–edge candidate `c`, if closer than `thickness` (appended to `out`).
+void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
+                         const CollisionCandidates& candidates, const EdgeEdgePair& c,
+                         double thickness, std::vector<Proximity>& out) {
+  const CollisionMesh& ma = *meshes[static_cast<std::size_t>(c.mesh_a)];
+  const CollisionMesh& mb = *meshes[static_cast<std::size_t>(c.mesh_b)];
+  const std::array<int, 2>& ea =
+      candidates.topology(c.mesh_a).edges[static_cast<std::size_t>(c.edge_a)];
+  const std::array<int, 2>& eb =
+      candidates.topology(c.mesh_b).edges[static_cast<std::size_t>(c.edge_b)];
+  const Vec3 p0 = row(ma, ea[0]), p1 = row(ma, ea[1]), q0 = row(mb, eb[0]), q1 = row(mb, eb[1]);
+  const Vec2 su = closest_points_segments(p0, p1, q0, q1);
+  // Closest points at an edge's end are a vertex–face pair's (closest on that face's
+  // boundary): keep edge–edge pairs for interior closest points only, so no pair counts twice.
+  if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) return;
+  const Vec3 gap = (p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0));
+  const double dist = gap.norm();
+  if (dist >= thickness) return;
+  const bool cloth_pair = !ma.obstacle && !mb.obstacle;
+  if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) return;
+  if (rest_neighbours_ee(ma, mb, ea, eb, thickness)) return;
+  Proximity prox;
+  prox.edge_edge = true;
+  prox.mesh = {c.mesh_a, c.mesh_b};
+  prox.corner = {ea[0], ea[1], eb[0], eb[1]};
+  prox.first = c.edge_a;
+  prox.second = c.edge_b;
+  prox.w = {1.0 - su[0], su[0], -(1.0 - su[1]), -su[1]};
+  prox.normal = contact_normal(gap, (p1 - p0).cross(q1 - q0));
+  prox.distance = dist;
+  out.push_back(prox);
+}
+
 }  // namespace
 
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
-                      CollisionCandidates& candidates, std::vector<Proximity>& out) {
+                      CollisionCandidates& candidates, std::vector<Proximity>& out,
+                      std::vector<std::vector<Proximity>>& scratch) {
   out.clear();
   // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness.
   candidates.update(meshes, false, 0.5 * thickness);
-
-  // Vertex–face pairs.
-  for (const VertexFacePair& c : candidates.vertex_face()) {
-    const CollisionMesh& vm = *meshes[static_cast<std::size_t>(c.vertex_mesh)];
-    const CollisionMesh& fm = *meshes[static_cast<std::size_t>(c.face_mesh)];
-    const int a = fm.faces(c.face, 0), b = fm.faces(c.face, 1), cc = fm.faces(c.face, 2);
-    const Vec3 p = row(vm, c.vertex), xa = row(fm, a), xb = row(fm, b), xc = row(fm, cc);
-    const Vec3 bary = closest_point_triangle(p, xa, xb, xc);
-    const Vec3 gap = p - (bary[0] * xa + bary[1] * xb + bary[2] * xc);
-    const double dist = gap.norm();
-    if (dist >= thickness) continue;
-    const bool cloth_pair = !vm.obstacle && !fm.obstacle;
-    if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) continue;
-    if (rest_neighbours_vf(vm, fm, c.vertex, {a, b, cc}, thickness)) continue;
-    Proximity prox;
-    prox.edge_edge = false;
-    prox.mesh = {c.vertex_mesh, c.face_mesh};
-    prox.corner = {c.vertex, a, b, cc};
-    prox.first = c.vertex;
-    prox.second = c.face;
-    prox.w = {1.0, -bary[0], -bary[1], -bary[2]};
-    prox.normal = contact_normal(gap, (xb - xa).cross(xc - xa));
-    prox.distance = dist;
-    out.push_back(prox);
+  // The vertex–face, then the edge–edge candidates, in consecutive chunks shared round-robin
+  // among the pool's threads; the chunks' proximities concatenated in order.
+  WorkerPool* pool = candidates.pool();
+  const int threads = pool ? pool->threads() : 1;
+  const std::size_t chunks = 4 * static_cast<std::size_t>(threads);
+  if (scratch.size() < 2 * chunks) scratch.resize(2 * chunks);
+  const std::vector<VertexFacePair>& vf = candidates.vertex_face();
+  const std::vector<EdgeEdgePair>& ee = candidates.edge_edge();
+  auto search = [&](int t) {
+    for (std::size_t c = static_cast<std::size_t>(t); c < chunks;
+         c += static_cast<std::size_t>(threads)) {
+      std::vector<Proximity>& a = scratch[c];
+      std::vector<Proximity>& b = scratch[chunks + c];
+      a.clear();
+      b.clear();
+      for (std::size_t k = vf.size() * c / chunks; k < vf.size() * (c + 1) / chunks; ++k)
+        vertex_face_proximity(meshes, vf[k], thickness, a);
+      for (std::size_t k = ee.size() * c / chunks; k < ee.size() * (c + 1) / chunks; ++k)
+        edge_edge_proximity(meshes, candidates, ee[k], thickness, b);
+    }
+  };
+  if (pool) {
+    pool->run(search);
+  } else {
+    search(0);
   }
+  for (std::size_t c = 0; c < 2 * chunks; ++c)
+    out.insert(out.end(), scratch[c].begin(), scratch[c].end());
+}
 
-  // Edge–edge pairs.
-  for (const EdgeEdgePair& c : candidates.edge_edge()) {
-    const CollisionMesh& ma = *meshes[static_cast<std::size_t>(c.mesh_a)];
-    const CollisionMesh& mb = *meshes[static_cast<std::size_t>(c.mesh_b)];
-    const std::array<int, 2>& ea = candidates.topology(c.mesh_a).edges[static_cast<std::size_t>(c.edge_a)];
-    const std::array<int, 2>& eb = candidates.topology(c.mesh_b).edges[static_cast<std::size_t>(c.edge_b)];
-    const Vec3 p0 = row(ma, ea[0]), p1 = row(ma, ea[1]), q0 = row(mb, eb[0]), q1 = row(mb, eb[1]);
-    const Vec2 su = closest_points_segments(p0, p1, q0, q1);
-    // Closest points at an edge's end are a vertex–face pair's (closest on that face's
-    // boundary): keep edge–edge pairs for interior closest points only, so no pair counts twice.
-    if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) continue;
-    const Vec3 gap = (p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0));
-    const double dist = gap.norm();
-    if (dist >= thickness) continue;
-    const bool cloth_pair = !ma.obstacle && !mb.obstacle;
-    if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) continue;
-    if (rest_neighbours_ee(ma, mb, ea, eb, thickness)) continue;
-    Proximity prox;
-    prox.edge_edge = true;
-    prox.mesh = {c.mesh_a, c.mesh_b};
-    prox.corner = {ea[0], ea[1], eb[0], eb[1]};
-    prox.first = c.edge_a;
-    prox.second = c.edge_b;
-    prox.w = {1.0 - su[0], su[0], -(1.0 - su[1]), -su[1]};
-    prox.normal = contact_normal(gap, (p1 - p0).cross(q1 - q0));
-    prox.distance = dist;
-    out.push_back(prox);
-  }
+void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
+                      CollisionCandidates& candidates, std::vector<Proximity>& out) {
+  std::vector<std::vector<Proximity>> scratch;
+  find_proximities(meshes, thickness, candidates, out, scratch);
 }
 
 }  // namespace dexcloth::collision

@@ -119,6 +119,38 @@ TEST(Bvh, SelfOverlapsEqualBruteForceWithAndWithoutAdjacency) {
   }
 }
 
+TEST(Bvh, QueryPiecesConcatenateToTheWholeQueryInItsOrder) {
+  // Split for parallel searches, the pieces' pairs in order must be the query's, pair for pair.
+  std::mt19937 rng(31);
+  const double margin = 0.005;
+  const Soup a = random_soup(rng, 600, 500, 1.0, 0.03), b = random_soup(rng, 500, 400, 1.0, 0.03);
+  Bvh ta, tb;
+  ta.build(a.faces, a.x0, a.x1, margin);
+  tb.build(b.faces, b.x0, b.x1, margin);
+  for (const bool self : {true, false}) {
+    std::vector<FacePair> whole;
+    if (self) {
+      self_overlapping_faces(ta, a.faces, false, whole);
+    } else {
+      overlapping_faces(ta, tb, whole);
+    }
+    ASSERT_GT(whole.size(), 100u);
+    for (const int pieces : {1, 7, 40}) {
+      std::vector<BvhQuery> queries;
+      const Bvh& other = self ? ta : tb;
+      split_query(ta, other, self, pieces, queries);
+      EXPECT_GE(queries.size(), static_cast<std::size_t>(pieces));
+      std::vector<FacePair> joined;
+      for (const BvhQuery& q : queries) run_query(ta, other, q, nullptr, joined);
+      ASSERT_EQ(joined.size(), whole.size()) << self << " " << pieces;
+      for (std::size_t k = 0; k < whole.size(); ++k) {
+        EXPECT_EQ(joined[k].a, whole[k].a);
+        EXPECT_EQ(joined[k].b, whole[k].b);
+      }
+    }
+  }
+}
+
 TEST(MeshTopology, EveryEdgeAndVertexOwnedExactlyOnce) {
   Triangles faces(4, 3);
   faces << 0, 1, 2, 1, 3, 2, 2, 3, 4, 0, 2, 4;
