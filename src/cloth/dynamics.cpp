@@ -237,9 +237,11 @@ DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   return report;
 }
 
-/// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv.
+/// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv. One thread: a single product,
+/// after which OpenMP's workers would spin (7.8 % of a two-thread pinch_move run) beside the
+/// factorisation's and the collision searches' threads.
 double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
-  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, model.solver.threads);
+  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, 1);
   ws.work -= ws.rhs;
   const double b_norm = ws.rhs.norm();
   return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);

@@ -221,8 +221,9 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
                                static_cast<int>(m));
   for (Eigen::Index k = 0; k < n; ++k) ws.dv[d.dof[static_cast<std::size_t>(k)]] = ws.work[k];
 
-  // Check: every row of the system balances, the friction vertices' with their impulses.
-  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, model.solver.threads);
+  // Check: every row of the system balances, the friction vertices' with their impulses (one
+  // thread, as direct_residual).
+  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, 1);
   ws.work -= ws.rhs;
   for (std::size_t k = 0; k < friction.size(); ++k) {
     if (!active[k]) continue;
