@@ -51,6 +51,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
   m_vertex_boxes.resize(nm);
   m_edge_boxes.resize(nm);
+  m_face_boxes.resize(nm);
   for (std::size_t m = 0; m < nm; ++m) {
     const CollisionMesh& mesh = *meshes[m];
     const Points& x1 = swept ? mesh.x1 : mesh.x0;
@@ -69,6 +70,13 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     for (std::size_t e = 0; e < edges.size(); ++e)
       eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])],
                     vb[static_cast<std::size_t>(edges[e][1])]);
+    std::vector<PrimitiveBox>& fb = m_face_boxes[m];
+    fb.resize(static_cast<std::size_t>(mesh.faces.rows()));
+    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+      fb[static_cast<std::size_t>(f)] =
+          merge(merge(vb[static_cast<std::size_t>(mesh.faces(f, 0))],
+                      vb[static_cast<std::size_t>(mesh.faces(f, 1))]),
+                vb[static_cast<std::size_t>(mesh.faces(f, 2))]);
   }
   // Primitive pairs of every relevant mesh pair.
   m_vf.clear();
@@ -148,6 +156,9 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
   const std::vector<PrimitiveBox>& eba = m_edge_boxes[static_cast<std::size_t>(ma)];
   const std::vector<PrimitiveBox>& ebb = m_edge_boxes[static_cast<std::size_t>(mb)];
 
+  const std::vector<PrimitiveBox>& fba = m_face_boxes[static_cast<std::size_t>(ma)];
+  const std::vector<PrimitiveBox>& fbb = m_face_boxes[static_cast<std::size_t>(mb)];
+
   // Owned vertex of one face against the other face, unless it is one of that face's corners.
   auto vertex_face = [&](const CollisionMesh& vm, const MeshTopology& vt,
                          const std::vector<PrimitiveBox>& vb, int vmi, int fv,
@@ -156,9 +167,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
     const std::uint8_t owned = vt.owned_vertices[static_cast<std::size_t>(fv)];
     if (owned == 0) return;
     const std::array<int, 3> face{fm.faces(ff, 0), fm.faces(ff, 1), fm.faces(ff, 2)};
-    const PrimitiveBox fbox =
-        merge(merge(fb[static_cast<std::size_t>(face[0])], fb[static_cast<std::size_t>(face[1])]),
-              fb[static_cast<std::size_t>(face[2])]);
+    const PrimitiveBox& fbox = fb[static_cast<std::size_t>(ff)];
     for (int k = 0; k < 3; ++k) {
       if ((owned & (1u << k)) == 0) continue;
       const int v = vm.faces(fv, k);
@@ -170,8 +179,8 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
 
   for (std::size_t k = first; k < end; ++k) {
     const FacePair& fp = m_face_pairs[k];
-    vertex_face(A, ta, vba, ma, fp.a, B, vbb, mb, fp.b);
-    vertex_face(B, tb, vbb, mb, fp.b, A, vba, ma, fp.a);
+    vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b);
+    vertex_face(B, tb, vbb, mb, fp.b, A, fba, ma, fp.a);
     // Owned edges of one face against owned edges of the other.
     const std::uint8_t oa = ta.owned_edges[static_cast<std::size_t>(fp.a)];
     const std::uint8_t ob = tb.owned_edges[static_cast<std::size_t>(fp.b)];

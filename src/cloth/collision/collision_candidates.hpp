@@ -75,6 +75,7 @@ class CollisionCandidates {
   std::vector<Bvh> m_bvh;
   std::vector<std::vector<PrimitiveBox>> m_vertex_boxes;  // per mesh, per vertex
   std::vector<std::vector<PrimitiveBox>> m_edge_boxes;    // per mesh, per topology edge
+  std::vector<std::vector<PrimitiveBox>> m_face_boxes;    // per mesh, per face
   std::vector<FacePair> m_face_pairs;
   std::vector<VertexFacePair> m_vf;
   std::vector<EdgeEdgePair> m_ee;
