@@ -8,7 +8,7 @@
 ///   BM_Coupled/three_layers   scenes/three_layers.json from 2.6 s (the hand carrying three napkins).
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
-/// triangles. Run (Release):
+/// triangles. The argument is the step's threads (1, 2). Run (Release):
 ///   build/bench/bench_coupling
 #include <benchmark/benchmark.h>
 
@@ -32,6 +32,7 @@ void BM_Coupled(benchmark::State& bench, const std::string& name, double t_start
     return;
   }
   scene::CompiledScene scene = scene::compile_scene(scene::load_scene(path));
+  coupling::set_threads(scene.model, static_cast<int>(bench.range(0)));
   while (scene.data.time < t_start - 1e-9 && !scene.data.lost) coupling::step(scene.model, scene.data);
   const coupling::Timings before = scene.data.timings;
   double patches = 0.0, vr = 0.0;
@@ -58,19 +59,34 @@ void BM_Coupled(benchmark::State& bench, const std::string& name, double t_start
 }
 
 BENCHMARK_CAPTURE(BM_Coupled, gripper_pinch, std::string("gripper_pinch"), 1.2)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_napkin, std::string("pinch_napkin"), 2.2)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, gripper_layers, std::string("gripper_layers"), 1.8)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, three_layers, std::string("three_layers"), 2.6)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_move, std::string("pinch_move"), 2.2)
+    ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(40);
 
 }  // namespace
