@@ -87,7 +87,7 @@ void crossing_candidates(const Corners& x0, const Corners& x1, std::size_t ia, s
   const Vec3 w0 = x0[ip] - x0[ia], dw = (x1[ip] - x1[ia]) - w0;
   const std::array<double, 4> c{u0.cross(w0).dot(n), (u0.cross(dw) + du.cross(w0)).dot(n),
                                 du.cross(dw).dot(n), 0.0};
-  std::array<double, 5> roots{};
+  CubicCandidates roots{};
   int nr = cubic_candidates(c, near_zero, roots);
   for (int i = 0; i < nr && count < 64; ++i) times[static_cast<std::size_t>(count++)] = roots[static_cast<std::size_t>(i)];
   // P stays on the edge's line (collinear motion): contact starts when P passes A or B.
@@ -135,7 +135,7 @@ std::optional<CcdHit> ccd(Kind kind, const Corners& x0, const Corners& x1, doubl
   const double near_zero = scale * scale * tolerance;
   const double cubic_size =
       std::max({std::abs(cubic[0]), std::abs(cubic[1]), std::abs(cubic[2]), std::abs(cubic[3])});
-  std::array<double, 5> roots{};
+  CubicCandidates roots{};
   const int nr = cubic_candidates(cubic, near_zero, roots);
   for (int i = 0; i < nr; ++i) times[static_cast<std::size_t>(count++)] = roots[static_cast<std::size_t>(i)];
   // (Nearly) coplanar for the whole step: a cubic bounded by near_zero on [0,1] has coefficients

@@ -63,7 +63,7 @@ double refine_root(const std::array<double, 4>& c, double lo, double hi, double 
 
 }  // namespace
 
-int cubic_candidates(const std::array<double, 4>& c, double near_zero, std::array<double, 5>& out) {
+int cubic_candidates(const std::array<double, 4>& c, double near_zero, CubicCandidates& out) {
   // Split [0,1] at the derivative's roots: p′ = c1 + 2c2·t + 3c3·t².
   std::array<double, 4> split{};
   int ns = 0;

@@ -15,7 +15,9 @@ int quadratic_roots(double c0, double c1, double c2, std::array<double, 2>& root
 /// piece whose end values bracket zero gets its root by safeguarded Newton–bisection to full
 /// double precision; every split point where |p| ≤ `near_zero` (a tangential touch, a double
 /// root) is a candidate too. Lower-degree and constant polynomials go through the same path.
-/// Returns the number of candidates written to `out` (at most 5).
-int cubic_candidates(const std::array<double, 4>& c, double near_zero, std::array<double, 5>& out);
+/// Returns the number of candidates written to `out`: at most 7 (three pieces, each its start
+/// and a root, and the end).
+using CubicCandidates = std::array<double, 7>;
+int cubic_candidates(const std::array<double, 4>& c, double near_zero, CubicCandidates& out);
 
 }  // namespace dexcloth::collision

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cloth/collision/ccd.hpp"
 #include "cloth/collision/polynomial_roots.hpp"
 
@@ -17,7 +19,7 @@ Corners vf(const Vec3& p) { return {p, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 
 
 TEST(PolynomialRoots, FindsThreeSimpleRootsToFullPrecision) {
   // (t − 0.2)(t − 0.5)(t − 0.9) = t³ − 1.6t² + 0.73t − 0.09
-  std::array<double, 5> out{};
+  CubicCandidates out{};
   const int n = cubic_candidates({-0.09, 0.73, -1.6, 1.0}, 0.0, out);
   ASSERT_EQ(n, 3);
   EXPECT_NEAR(out[0], 0.2, 1e-14);
@@ -25,8 +27,23 @@ TEST(PolynomialRoots, FindsThreeSimpleRootsToFullPrecision) {
   EXPECT_NEAR(out[2], 0.9, 1e-14);
 }
 
+TEST(PolynomialRoots, HoldsEveryCandidateOfThreePiecesTouchingZero) {
+  // (t − 0.1)(t − 0.5)(t − 0.9) with a near-zero bound above |p| at 0, at both critical points
+  // and at 1: each of the three monotone pieces gives its start and its root, then the end.
+  // Five candidates were room for (AddressSanitizer caught the overflow in CCD).
+  CubicCandidates out{};
+  const int n = cubic_candidates({-0.045, 0.59, -1.5, 1.0}, 0.05, out);
+  ASSERT_EQ(n, 7);
+  EXPECT_EQ(out[0], 0.0);
+  EXPECT_NEAR(out[1], 0.1, 1e-14);
+  EXPECT_NEAR(out[3], 0.5, 1e-14);
+  EXPECT_NEAR(out[5], 0.9, 1e-14);
+  EXPECT_EQ(out[6], 1.0);
+  EXPECT_TRUE(std::is_sorted(out.begin(), out.begin() + n));
+}
+
 TEST(PolynomialRoots, HandlesDegenerateLeadingCoefficients) {
-  std::array<double, 5> out{};
+  CubicCandidates out{};
   // Linear 2t − 1.
   ASSERT_EQ(cubic_candidates({-1.0, 2.0, 0.0, 0.0}, 0.0, out), 1);
   EXPECT_NEAR(out[0], 0.5, 1e-15);
