@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/assert.hpp"
+
 namespace dexcloth::collision {
 
 namespace {
@@ -44,9 +46,18 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
         m_bvh[m].num_faces() != mesh.faces.rows() || (m_bvh[m].empty() && mesh.faces.rows() > 0)) {
       topo = build_topology(mesh.faces, static_cast<int>(mesh.x0.rows()));
       m_bvh[m].build(mesh.faces, mesh.x0, x1, margin);
+      if (m_rest.size() > m) m_rest[m] = RestNeighbours();
     } else {
       m_bvh[m].refit(mesh.faces, mesh.x0, x1, margin);
     }
+  }
+  // Rest neighbours of each self-colliding cloth, listed once per topology and distance.
+  m_rest.resize(nm);
+  for (std::size_t m = 0; m < nm; ++m) {
+    const CollisionMesh& mesh = *meshes[m];
+    if (m_rest_distance > 0.0 && m_rest[m].distance() != m_rest_distance &&
+        mesh.rest.rows() > 0 && mesh.self_collision)
+      m_rest[m].build(mesh.rest, mesh.faces, m_topology[m], m_rest_distance);
   }
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
   m_vertex_boxes.resize(nm);
@@ -88,6 +99,16 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       collect(meshes, static_cast<int>(a), static_cast<int>(b));
     }
   }
+}
+
+void CollisionCandidates::set_rest_neighbour_distance(double distance) {
+  DEXCLOTH_DEMAND(distance >= 0.0);
+  m_rest_distance = distance;
+}
+
+const RestNeighbours* CollisionCandidates::rest_neighbours(int m) const {
+  const RestNeighbours& r = m_rest[static_cast<std::size_t>(m)];
+  return m_rest_distance > 0.0 && r.distance() == m_rest_distance ? &r : nullptr;
 }
 
 void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb) {
@@ -158,6 +179,9 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
 
   const std::vector<PrimitiveBox>& fba = m_face_boxes[static_cast<std::size_t>(ma)];
   const std::vector<PrimitiveBox>& fbb = m_face_boxes[static_cast<std::size_t>(mb)];
+  // Pairs of rest neighbours are never contacts (find_proximities): left out here, whole face
+  // pairs of them at once.
+  const RestNeighbours* rest = self ? rest_neighbours(ma) : nullptr;
 
   // Owned vertex of one face against the other face, unless it is one of that face's corners.
   auto vertex_face = [&](const CollisionMesh& vm, const MeshTopology& vt,
@@ -172,6 +196,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
       if ((owned & (1u << k)) == 0) continue;
       const int v = vm.faces(fv, k);
       if (self && (v == face[0] || v == face[1] || v == face[2])) continue;
+      if (rest && rest->vertex_face(v, ff)) continue;
       if (!overlap(vb[static_cast<std::size_t>(v)], fbox)) continue;
       vf.push_back({vmi, v, fmi, ff});
     }
@@ -179,6 +204,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
 
   for (std::size_t k = first; k < end; ++k) {
     const FacePair& fp = m_face_pairs[k];
+    if (rest && rest->faces(fp.a, fp.b)) continue;
     vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b);
     vertex_face(B, tb, vbb, mb, fp.b, A, fba, ma, fp.a);
     // Owned edges of one face against owned edges of the other.
@@ -194,6 +220,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
         if ((ob & (1u << j)) == 0) continue;
         const int eb = tb.face_edges[static_cast<std::size_t>(fp.b)][static_cast<std::size_t>(j)];
         if (self && shares_vertex(va, tb.edges[static_cast<std::size_t>(eb)])) continue;
+        if (rest && rest->edge_edge(ea, eb)) continue;
         if (!overlap(abox, ebb[static_cast<std::size_t>(eb)])) continue;
         ee.push_back({ma, ea, mb, eb});
       }

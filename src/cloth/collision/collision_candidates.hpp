@@ -6,6 +6,7 @@
 #include "cloth/collision/bvh.hpp"
 #include "cloth/collision/collision_mesh.hpp"
 #include "cloth/collision/mesh_topology.hpp"
+#include "cloth/collision/rest_neighbours.hpp"
 #include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
@@ -51,6 +52,10 @@ class CollisionCandidates {
   void set_pool(WorkerPool* pool) { m_pool = pool; }
   /// The pool set by set_pool, or null.
   WorkerPool* pool() const { return m_pool; }
+  /// Leaves out the vertex–face and edge–edge pairs of one cloth closer than `distance` [m] in
+  /// its rest shape (0: none left out), which the proximity search drops anyway (rest
+  /// neighbours), without testing each.
+  void set_rest_neighbour_distance(double distance);
 
   /// Vertex–face pairs found by the last `update`.
   const std::vector<VertexFacePair>& vertex_face() const { return m_vf; }
@@ -66,9 +71,14 @@ class CollisionCandidates {
                        std::size_t first, std::size_t end, std::vector<VertexFacePair>& vf,
                        std::vector<EdgeEdgePair>& ee) const;
 
+  /// Mesh m's rest neighbours at the distance set, or null (none set, or not a cloth).
+  const RestNeighbours* rest_neighbours(int m) const;
+
   WorkerPool* m_pool{};
-  std::vector<BvhQuery> m_queries;                   // pieces of a face-pair query
-  std::vector<std::vector<FacePair>> m_piece_pairs;  // each piece's face pairs
+  double m_rest_distance{};
+  std::vector<RestNeighbours> m_rest;  // per mesh
+  std::vector<BvhQuery> m_queries;                          // pieces of a face-pair query
+  std::vector<std::vector<FacePair>> m_piece_pairs;         // each piece's face pairs
   std::vector<std::vector<VertexFacePair>> m_piece_vf;
   std::vector<std::vector<EdgeEdgePair>> m_piece_ee;
   std::vector<MeshTopology> m_topology;

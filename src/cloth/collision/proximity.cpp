@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "cloth/collision/closest_points.hpp"
+#include "cloth/collision/rest_neighbours.hpp"
 
 namespace dexcloth::collision {
 
@@ -42,21 +43,15 @@ constexpr double kFoldLength = 0.5 * std::numbers::pi;
 /// True when the pair lies on one cloth with rest positions and closer than a fold at rest.
 bool rest_neighbours_vf(const CollisionMesh& vm, const CollisionMesh& fm, int v,
                         const std::array<int, 3>& f, double thickness) {
-  if (&vm != &fm || fm.rest.rows() == 0) return false;
-  const Vec3 p = vm.rest.row(v).transpose(), a = fm.rest.row(f[0]).transpose(),
-             b = fm.rest.row(f[1]).transpose(), c = fm.rest.row(f[2]).transpose();
-  const Vec3 bary = closest_point_triangle(p, a, b, c);
-  return (p - (bary[0] * a + bary[1] * b + bary[2] * c)).norm() < kFoldLength * thickness;
+  return &vm == &fm && fm.rest.rows() > 0 &&
+         rest_vertex_face_distance(fm.rest, v, f) < kFoldLength * thickness;
 }
 
 bool rest_neighbours_ee(const CollisionMesh& ma, const CollisionMesh& mb,
                         const std::array<int, 2>& ea, const std::array<int, 2>& eb,
                         double thickness) {
-  if (&ma != &mb || ma.rest.rows() == 0) return false;
-  const Vec3 p0 = ma.rest.row(ea[0]).transpose(), p1 = ma.rest.row(ea[1]).transpose(),
-             q0 = mb.rest.row(eb[0]).transpose(), q1 = mb.rest.row(eb[1]).transpose();
-  const Vec2 su = closest_points_segments(p0, p1, q0, q1);
-  return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm() < kFoldLength * thickness;
+  return &ma == &mb && ma.rest.rows() > 0 &&
+         rest_edge_edge_distance(ma.rest, ea, eb) < kFoldLength * thickness;
 }
 
 /// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
@@ -124,7 +119,9 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
                       CollisionCandidates& candidates, std::vector<Proximity>& out,
                       std::vector<std::vector<Proximity>>& scratch) {
   out.clear();
-  // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness.
+  // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness;
+  // face pairs of one cloth made only of rest neighbours are left out before any pair test.
+  candidates.set_rest_neighbour_distance(kFoldLength * thickness);
   candidates.update(meshes, false, 0.5 * thickness);
   // The vertex–face, then the edge–edge candidates, in consecutive chunks shared round-robin
   // among the pool's threads; the chunks' proximities concatenated in order.

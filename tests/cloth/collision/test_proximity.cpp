@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <utility>
 
 #include "cloth/collision/closest_points.hpp"
 #include "cloth/collision/collision_candidates.hpp"
@@ -13,7 +16,8 @@ using namespace dexcloth::collision::testing;
 
 namespace {
 
-std::vector<Proximity> proximities(const std::vector<const CollisionMesh*>& meshes, double thickness) {
+std::vector<Proximity> proximities(const std::vector<const CollisionMesh*>& meshes,
+                                   double thickness) {
   CollisionCandidates candidates;
   std::vector<Proximity> out;
   find_proximities(meshes, thickness, candidates, out);
@@ -75,7 +79,8 @@ TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
   CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(0.003, 0.0, 0.0005), 1e-4);
   const std::vector<Proximity> found = proximities({&cloth, &obstacle}, 5e-3);
   bool vertex0 = false;
-  for (const Proximity& p : found) vertex0 = vertex0 || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0);
+  for (const Proximity& p : found)
+    vertex0 = vertex0 || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0);
   EXPECT_TRUE(vertex0);
 }
 
@@ -128,8 +133,8 @@ TEST(Proximity, AFoldedClothRepelsAcrossTheFoldButNotItsOwnBendingNeighbours) {
   const std::vector<Proximity> found = proximities({&strip}, thickness);
   int across_arms = 0;
   for (const Proximity& p : found) {
-    EXPECT_GE(rest_distance(strip, p), fold) << (p.edge_edge ? "edge-edge " : "vertex-face ")
-                                             << p.first << " " << p.second;
+    EXPECT_GE(rest_distance(strip, p), fold)
+        << (p.edge_edge ? "edge-edge " : "vertex-face ") << p.first << " " << p.second;
     if (p.distance < 4e-3 + 1e-9) ++across_arms;
   }
   EXPECT_GT(across_arms, 20);
@@ -154,4 +159,77 @@ TEST(Proximity, AClothWithoutSelfCollisionHasNoContactsWithItselfOnly) {
   const std::vector<Proximity> found = proximities({&strip, &below}, 5e-3);
   ASSERT_FALSE(found.empty());
   for (const Proximity& p : found) EXPECT_NE(p.mesh[0], p.mesh[1]);
+}
+
+TEST(Proximity, RestNeighboursAreLeftOutOfTheCandidatesBeforeAnyPairTest) {
+  // A fold crumpled by seeded noise: the candidates with rest neighbours left out are the ones
+  // without, in the same order, less exactly the pairs that lie within the distance at rest.
+  CollisionMesh strip = folded_strip(2e-3);
+  std::uint32_t state = 12345u;
+  const auto noise = [&] {
+    state = state * 1664525u + 1013904223u;
+    return 1e-3 * (static_cast<double>(state >> 8) / 16777216.0 - 0.5);
+  };
+  for (int v = 0; v < strip.x0.rows(); ++v)
+    for (int k = 0; k < 3; ++k) strip.x0(v, k) += noise();
+  strip.x1 = strip.x0;
+  const double d = 0.5 * M_PI * 5e-3;
+  const std::vector<const CollisionMesh*> meshes{&strip};
+  CollisionCandidates all, fewer;
+  all.update(meshes, false, 2.5e-3);
+  fewer.set_rest_neighbour_distance(d);
+  fewer.update(meshes, false, 2.5e-3);
+  const auto& ea = all.topology(0).edges;
+  const auto vf_rest = [&](const VertexFacePair& p) {
+    const Vec3 b = closest_point_triangle(strip.rest.row(p.vertex).transpose(),
+                                          strip.rest.row(strip.faces(p.face, 0)).transpose(),
+                                          strip.rest.row(strip.faces(p.face, 1)).transpose(),
+                                          strip.rest.row(strip.faces(p.face, 2)).transpose());
+    Vec3 q = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) q += b[k] * strip.rest.row(strip.faces(p.face, k)).transpose();
+    return (strip.rest.row(p.vertex).transpose() - q).norm();
+  };
+  const auto ee_rest = [&](const EdgeEdgePair& p) {
+    const auto& a = ea[static_cast<std::size_t>(p.edge_a)];
+    const auto& b = ea[static_cast<std::size_t>(p.edge_b)];
+    const Vec3 p0 = strip.rest.row(a[0]).transpose(), p1 = strip.rest.row(a[1]).transpose(),
+               q0 = strip.rest.row(b[0]).transpose(), q1 = strip.rest.row(b[1]).transpose();
+    const Vec2 su = closest_points_segments(p0, p1, q0, q1);
+    return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm();
+  };
+  const auto same = [](const auto& x, const auto& y) { return std::memcmp(&x, &y, sizeof x) == 0; };
+  // Walks both lists: every kept pair appears in order; every dropped one is a rest neighbour.
+  // Returns {dropped, rest neighbours in the full list}.
+  const auto check = [&](const auto& full, const auto& kept, const auto& rest) {
+    std::size_t k = 0, dropped = 0, neighbours = 0;
+    for (const auto& p : full) {
+      const bool neighbour = rest(p) < d;
+      neighbours += neighbour;
+      if (k < kept.size() && same(p, kept[k])) {
+        ++k;
+      } else {
+        ++dropped;
+        EXPECT_TRUE(neighbour);
+      }
+    }
+    EXPECT_EQ(k, kept.size()) << "a kept pair is missing from the full list or out of order";
+    return std::pair{dropped, neighbours};
+  };
+  const auto [vf_dropped, vf_neighbours] = check(all.vertex_face(), fewer.vertex_face(), vf_rest);
+  const auto [ee_dropped, ee_neighbours] = check(all.edge_edge(), fewer.edge_edge(), ee_rest);
+  // Every rest neighbour goes before any pair test; the arms' pairs across the fold are kept.
+  EXPECT_EQ(vf_dropped, vf_neighbours);
+  EXPECT_EQ(ee_dropped, ee_neighbours);
+  EXPECT_GT(vf_dropped, 100u);
+  EXPECT_GT(fewer.vertex_face().size(), 20u);
+  // And the proximities found are those of the full candidate list.
+  std::vector<Proximity> out;
+  find_proximities(meshes, 5e-3, fewer, out);
+  CollisionMesh no_rest = strip;
+  no_rest.rest.resize(0, 3);
+  int neighbours = 0, kept = 0;
+  for (const Proximity& p : proximities({&no_rest}, 5e-3))
+    (rest_distance(strip, p) < d ? neighbours : kept)++;
+  EXPECT_EQ(static_cast<int>(out.size()), kept);
+  EXPECT_GT(neighbours, 0);
 }
