@@ -1,8 +1,8 @@
 #include "cloth/collision/impact_zones.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <Eigen/Eigenvalues>
 
 #include "cloth/collision/ccd.hpp"
 
@@ -31,13 +31,15 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
   const std::size_t before = m_impacts.size();
 
   // Resolves corners, tests the pair unless every corner is fixed, records a hit.
-  auto test = [&](bool edge_edge, const std::array<int, 4>& mesh, const std::array<int, 4>& vertex) {
+  auto test = [&](bool edge_edge, const std::array<int, 4>& mesh,
+                  const std::array<int, 4>& vertex) {
     Impact impact;
     bool movable = false;
     Corners c0, c1;
     for (std::size_t k = 0; k < 4; ++k) {
       const CollisionMesh& m = *meshes[static_cast<std::size_t>(mesh[k])];
-      impact.corner[k] = {mesh[k], vertex[k], m_offset[static_cast<std::size_t>(mesh[k])] + vertex[k],
+      impact.corner[k] = {mesh[k], vertex[k],
+                          m_offset[static_cast<std::size_t>(mesh[k])] + vertex[k],
                           inverse_mass(m, vertex[k])};
       movable = movable || impact.corner[k].inv_mass > 0.0;
       c0[k] = x0_of(m, vertex[k]);
@@ -100,10 +102,35 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
   return static_cast<int>(m_impacts.size() - before);
 }
 
+std::pair<CollisionMesh*, int> ImpactZoneSolver::locate(const std::vector<CollisionMesh*>& meshes,
+                                                        int gid) const {
+  const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), gid) - 1;
+  return {meshes[static_cast<std::size_t>(it - m_offset.begin())], gid - *it};
+}
+
 bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
-                               const std::vector<int>& impacts, const ImpactZoneOptions& options) {
+                               const std::vector<int>& impacts, const std::vector<int>& members,
+                               const ImpactZoneOptions& options) {
   // Gauss–Seidel on the dual of min Σ m‖x − x̂‖²/2 s.t. c_j(x) = n·Σ w x − target_j ≥ 0, λ ≥ 0;
   // converged when no constraint is violated by more than its slack.
+  m_zone_x1.clear();
+  for (const int g : members) {
+    const auto [m, v] = locate(meshes, g);
+    m_zone_x1.push_back(x1_of(*m, v));
+  }
+  if (gauss_seidel(meshes, impacts, options)) return true;
+  // Not converged (an infeasible zone's dual grows without bound and its x1 with it, to
+  // metres and then to NaN): the fallback starts from the zone's motion as it came.
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    const auto [m, v] = locate(meshes, members[k]);
+    m->x1.row(v) = m_zone_x1[k].transpose();
+  }
+  return false;
+}
+
+bool ImpactZoneSolver::gauss_seidel(const std::vector<CollisionMesh*>& meshes,
+                                    const std::vector<int>& impacts,
+                                    const ImpactZoneOptions& options) {
   for (const int i : impacts) m_impacts[static_cast<std::size_t>(i)].lambda = 0.0;
   for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
     double worst = 0.0;
@@ -129,6 +156,7 @@ bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
       }
     }
     if (worst <= 1.0) return true;
+    if (!std::isfinite(worst)) return false;  // diverged
   }
   return false;
 }
@@ -136,11 +164,7 @@ bool ImpactZoneSolver::project(const std::vector<CollisionMesh*>& meshes,
 void ImpactZoneSolver::move_rigidly(const std::vector<CollisionMesh*>& meshes,
                                     const std::vector<int>& members) {
   // Mass-weighted centre, linear and angular momentum of the zone's motion over the step.
-  auto locate = [&](int gid) {
-    const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), gid) - 1;
-    const int m = static_cast<int>(it - m_offset.begin());
-    return std::pair<CollisionMesh*, int>(meshes[static_cast<std::size_t>(m)], gid - *it);
-  };
+  const auto locate = [&](int gid) { return this->locate(meshes, gid); };
   double total = 0.0;
   Vec3 c0 = Vec3::Zero(), d = Vec3::Zero();
   for (const int g : members) {
@@ -197,9 +221,8 @@ void ImpactZoneSolver::release_held_corners(const std::vector<CollisionMesh*>& m
 void ImpactZoneSolver::stay_at_start(const std::vector<CollisionMesh*>& meshes,
                                      const std::vector<int>& members) {
   for (const int g : members) {
-    const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), g) - 1;
-    CollisionMesh& m = *meshes[static_cast<std::size_t>(it - m_offset.begin())];
-    m.x1.row(g - *it) = m.x0.row(g - *it);
+    const auto [m, v] = locate(meshes, g);
+    m->x1.row(v) = m->x0.row(v);
   }
 }
 
@@ -250,8 +273,10 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
       for (const Corner& c : m_impacts[i].corner) {
         if (c.inv_mass == 0.0) continue;
         const int r = find_root(c.gid);
-        if (root < 0) root = r;
-        else if (r != root) m_parent[static_cast<std::size_t>(r)] = root;
+        if (root < 0)
+          root = r;
+        else if (r != root)
+          m_parent[static_cast<std::size_t>(r)] = root;
       }
     }
     // Group every impact by zone; respond in each zone that got a new impact.
@@ -294,7 +319,7 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
       std::uint8_t next = 0;
       if (level == 0) {
         // Inelastic projection; rigid motion when it does not converge.
-        if (!project(meshes, m_zone_impacts, options)) {
+        if (!project(meshes, m_zone_impacts, m_zone_members, options)) {
           move_rigidly(meshes, m_zone_members);
           next = 1;
           report.warnings.push_back("impact zones: projection of a zone of " + size +
@@ -303,8 +328,9 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
       } else if (level == 1 && had == 0) {
         move_rigidly(meshes, m_zone_members);
         next = 1;
-        report.warnings.push_back("impact zones: zone of " + size + " vertices still colliding after " +
-                                  std::to_string(iter) + " rounds; zone moved rigidly");
+        report.warnings.push_back("impact zones: zone of " + size +
+                                  " vertices still colliding after " + std::to_string(iter) +
+                                  " rounds; zone moved rigidly");
       } else {
         // A rigid zone hit again (by neighbours or obstacles) keeps its start positions. Cloth
         // vertices held by static friction that run into it are let go and stay with it: held,

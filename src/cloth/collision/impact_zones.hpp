@@ -16,14 +16,14 @@ namespace dexcloth::collision {
 
 /// Settings of impact-zone resolution.
 struct ImpactZoneOptions {
-  double offset{1.5e-4};        ///< separation along each impact's normal that projection
-                                ///< enforces at x1 [m] (a few % of the 5 mm thickness); a pair
-                                ///< that starts closer keeps its start separation instead
-                                ///< (at least 10·ccd_tolerance), so the start state is feasible
-  double ccd_tolerance{1e-6};   ///< distance at which CCD reports contact [m]
-  int max_iterations{40};       ///< detect–respond rounds; past half of them zones move rigidly,
-                                ///< past three quarters they stay at x0
-  int max_sweeps{5000};         ///< Gauss–Seidel sweeps of one zone's projection
+  double offset{1.5e-4};       ///< separation along each impact's normal that projection
+                               ///< enforces at x1 [m] (a few % of the 5 mm thickness); a pair
+                               ///< that starts closer keeps its start separation instead
+                               ///< (at least 10·ccd_tolerance), so the start state is feasible
+  double ccd_tolerance{1e-6};  ///< distance at which CCD reports contact [m]
+  int max_iterations{40};      ///< detect–respond rounds; past half of them zones move rigidly,
+                               ///< past three quarters they stay at x0
+  int max_sweeps{5000};        ///< Gauss–Seidel sweeps of one zone's projection
   double violation_tolerance{0.05};  ///< a projection has converged when no constraint is
                                      ///< violated by more than this fraction of `offset` (and
                                      ///< every pair stays beyond `ccd_tolerance`)
@@ -31,13 +31,13 @@ struct ImpactZoneOptions {
 
 /// What `ImpactZoneSolver::resolve` did.
 struct ImpactZoneReport {
-  int iterations{};    ///< detect–respond rounds that found impacts
-  int impacts{};       ///< impacts found over all rounds (constraints)
-  int zones{};         ///< distinct impact zones at the end
-  int rigid_zones{};   ///< zones that fell back to rigid motion or to staying at x0
-  int released{};      ///< vertices held by friction let go because an obstacle ran into them
-  bool converged{};    ///< the last detection found no impact, and no fixed–fixed collision
-                       ///< (frozen vertex against obstacle) exists
+  int iterations{};   ///< detect–respond rounds that found impacts
+  int impacts{};      ///< impacts found over all rounds (constraints)
+  int zones{};        ///< distinct impact zones at the end
+  int rigid_zones{};  ///< zones that fell back to rigid motion or to staying at x0
+  int released{};     ///< vertices held by friction let go because an obstacle ran into them
+  bool converged{};   ///< the last detection found no impact, and no fixed–fixed collision
+                      ///< (frozen vertex against obstacle) exists
   std::vector<std::string> warnings;  ///< fallbacks taken and anything left unresolved
 };
 
@@ -78,8 +78,15 @@ class ImpactZoneSolver {
 
   int find_impacts(const std::vector<CollisionMesh*>& meshes, const ImpactZoneOptions& options);
   int find_root(int gid);
+  /// Mesh and vertex index of global vertex id `gid`.
+  std::pair<CollisionMesh*, int> locate(const std::vector<CollisionMesh*>& meshes, int gid) const;
+  /// Projects the zone of `impacts` (members `members`) on its constraints; on failure leaves
+  /// the members' x1 as it found them and returns false.
   bool project(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& impacts,
-               const ImpactZoneOptions& options);
+               const std::vector<int>& members, const ImpactZoneOptions& options);
+  /// The Gauss–Seidel sweeps of `project`; true when converged.
+  bool gauss_seidel(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& impacts,
+                    const ImpactZoneOptions& options);
   void move_rigidly(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& members);
   void stay_at_start(const std::vector<CollisionMesh*>& meshes, const std::vector<int>& members);
   /// Lets go the friction-held corners of `impacts` and adds them to the zone of `members`.
@@ -89,15 +96,16 @@ class ImpactZoneSolver {
   CollisionCandidates m_candidates;
   std::vector<const CollisionMesh*> m_view;
   std::vector<Impact> m_impacts;
-  std::vector<int> m_offset;               // first global vertex id of each mesh
-  std::vector<int> m_parent;               // union–find over global vertex ids
-  std::vector<std::uint8_t> m_level;       // per global id: 0 project, 1 rigid, 2 stay at x0
+  std::vector<int> m_offset;                   // first global vertex id of each mesh
+  std::vector<int> m_parent;                   // union–find over global vertex ids
+  std::vector<std::uint8_t> m_level;           // per global id: 0 project, 1 rigid, 2 stay at x0
   std::vector<std::pair<int, int>> m_by_root;  // (zone root, impact index)
   std::vector<int> m_zone_impacts;
   std::vector<int> m_zone_members;
-  bool m_count_fixed{};   // test pairs whose corners are all fixed (first round only)
-  int m_fixed_impacts{};  // such pairs found colliding
-  int m_released{};       // friction-held vertices let go this resolve
+  std::vector<Vec3> m_zone_x1;  // the members' x1 before a projection
+  bool m_count_fixed{};         // test pairs whose corners are all fixed (first round only)
+  int m_fixed_impacts{};        // such pairs found colliding
+  int m_released{};             // friction-held vertices let go this resolve
 };
 
 }  // namespace dexcloth::collision
