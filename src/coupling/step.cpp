@@ -32,7 +32,8 @@ class Stopwatch {
   std::chrono::steady_clock::time_point m_last{std::chrono::steady_clock::now()};
 };
 
-/// Hard velocity constraints that carry every handle vertex to its keyframed place at t + h.
+/// Hard velocity constraints that carry every handle vertex to its keyframed place at t + h; a
+/// sliding handle's vertices only across its direction (they keep to their rod).
 void handle_constraints(const ClothBody& body, const cloth::ClothState& state, double t_next,
                         double h, std::vector<cloth::VelocityConstraint>& out) {
   out.clear();
@@ -44,7 +45,7 @@ void handle_constraints(const ClothBody& body, const cloth::ClothState& state, d
     for (std::size_t k = 0; k < handle.vertices.size(); ++k) {
       const int i = handle.vertices[k];
       const Vec3 target = handle.rest.row(static_cast<Eigen::Index>(k)).transpose() + offset;
-      out.push_back({i, (target - state.x.row(i).transpose()) / h});
+      out.push_back({i, (target - state.x.row(i).transpose()) / h, handle.slide});
     }
   }
 }

@@ -36,6 +36,7 @@ struct Handle {
   Points rest;                               ///< |vertices|×3 rest world positions [m]
   std::vector<rigid::PoseKeyframe> motion;   ///< offset X_WF(t) (translation only); empty: fixed
   double release{std::numeric_limits<double>::infinity()};  ///< time the handle lets go [s]
+  Vec3 slide{Vec3::Zero()};  ///< unit direction the vertices move freely along (a rod), or zero
 };
 
 /// One cloth: its immutable model, rest shape and handles.

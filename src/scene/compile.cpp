@@ -153,6 +153,7 @@ coupling::Handle compile_handle(const HandleSpec& spec, const cloth::ClothMesh& 
     handle.rest.row(static_cast<Eigen::Index>(k)) = mesh.x.row(handle.vertices[k]);
   handle.motion = handle_track(spec.motion);
   if (spec.release) handle.release = *spec.release;
+  if (spec.slide) handle.slide = *spec.slide;
   return handle;
 }
 

@@ -87,7 +87,7 @@ HandleSpec parse_handle(Checker& c, const Json& v, const Pointer& at,
                         std::optional<std::int64_t> vertex_count) {
   HandleSpec h;
   if (!c.require_object(v, at)) return h;
-  c.check_keys(v, at, {"vertices", "box", "motion", "release"});
+  c.check_keys(v, at, {"vertices", "box", "motion", "release", "slide"});
   for (const auto& kind : one_of(c, v, at, {"vertices", "box"})) {
     const Pointer at_k = at / kind;
     if (kind == "box") {
@@ -113,6 +113,15 @@ HandleSpec parse_handle(Checker& c, const Json& v, const Pointer& at,
   }
   if (const Json* r = c.member(v, at, "release", Need::optional)) {
     h.release = c.require_number(*r, at / "release", Rule::non_negative());
+  }
+  // Rings on a rod: the vertices slide freely along this direction.
+  if (const Json* s = c.member(v, at, "slide", Need::optional)) {
+    if (const auto d = c.require_vec3(*s, at / "slide")) {
+      if (d->norm() > 0.0)
+        h.slide = d->normalized();
+      else
+        c.fail(at / "slide", "must be a non-zero direction, got [0, 0, 0]");
+    }
   }
   return h;
 }

@@ -43,6 +43,7 @@ struct HandleSpec {
   std::optional<std::array<Vec3, 2>> box; ///< {min, max} world-space box [m]
   std::vector<KeyframeSpec> motion;       ///< optional translation keyframes
   std::optional<double> release;          ///< time [s] the handle lets go (held forever if absent)
+  std::optional<Vec3> slide;              ///< unit direction the vertices move freely along
 };
 
 /// Cloth geometry: a grid or an OBJ file.

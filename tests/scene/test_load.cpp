@@ -61,6 +61,7 @@ TEST(LoadScene, FullSceneHasEveryValue) {
   EXPECT_EQ((*sheet.handles[1].box)[0], Vec3(-1, -1, -1));
   EXPECT_EQ((*sheet.handles[1].box)[1], Vec3(1, 1, 0.3));
   EXPECT_TRUE(sheet.handles[1].vertices.empty());
+  EXPECT_FALSE(sheet.handles[0].slide);
 
   // OBJ cloth: path resolved, every material value defaulted.
   const ClothSpec& shirt = s.cloths[1];

@@ -21,6 +21,12 @@ TEST(LoadSceneOverrides, ChangeTheValues) {
   EXPECT_DOUBLE_EQ(s.cloths[0].material.density, 0.2);
 }
 
+TEST(LoadSceneOverrides, ASlideDirectionIsNormalised) {
+  const SceneSpec s = load_scene(data_path("full.json"), {"/cloths/0/handles/0/slide=[3,0,4]"});
+  ASSERT_TRUE(s.cloths[0].handles[0].slide);
+  EXPECT_TRUE(s.cloths[0].handles[0].slide->isApprox(Vec3(0.6, 0.0, 0.8), 1e-15));
+}
+
 TEST(LoadSceneOverrides, LaterOverrideWins) {
   const SceneSpec s = load_scene(data_path("full.json"), {"/dt=0.001", "/dt=0.003"});
   EXPECT_DOUBLE_EQ(s.dt, 0.003);
