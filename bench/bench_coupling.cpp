@@ -6,6 +6,7 @@
 ///   BM_Coupled/pinch_move     scenes/pinch_move.json from 2.2 s (the hand carrying a 0.3 m sheet).
 ///   BM_Coupled/gripper_layers scenes/gripper_layers.json from 1.8 s (three strips held, still).
 ///   BM_Coupled/three_layers   scenes/three_layers.json from 2.6 s (the hand carrying three napkins).
+///   BM_Coupled/curtain        scenes/curtain.json from 1.2 s (the gripper pulling 16k triangles).
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
 /// triangles. The argument is the step's threads (1, 2). Run (Release):
@@ -83,6 +84,12 @@ BENCHMARK_CAPTURE(BM_Coupled, three_layers, std::string("three_layers"), 2.6)
     ->UseRealTime()
     ->Iterations(100);
 BENCHMARK_CAPTURE(BM_Coupled, pinch_move, std::string("pinch_move"), 2.2)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(40);
+BENCHMARK_CAPTURE(BM_Coupled, curtain, std::string("curtain"), 1.2)
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
