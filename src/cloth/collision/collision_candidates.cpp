@@ -183,11 +183,12 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
   // pairs of them at once.
   const RestNeighbours* rest = self ? rest_neighbours(ma) : nullptr;
 
-  // Owned vertex of one face against the other face, unless it is one of that face's corners.
+  // Owned vertex of one face against the other face, unless it is one of that face's corners
+  // or a rest neighbour of it (bit `rest_bit` + corner of the face pair's mask).
   auto vertex_face = [&](const CollisionMesh& vm, const MeshTopology& vt,
                          const std::vector<PrimitiveBox>& vb, int vmi, int fv,
                          const CollisionMesh& fm, const std::vector<PrimitiveBox>& fb, int fmi,
-                         int ff) {
+                         int ff, std::uint16_t mask, int rest_bit) {
     const std::uint8_t owned = vt.owned_vertices[static_cast<std::size_t>(fv)];
     if (owned == 0) return;
     const std::array<int, 3> face{fm.faces(ff, 0), fm.faces(ff, 1), fm.faces(ff, 2)};
@@ -196,7 +197,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
       if ((owned & (1u << k)) == 0) continue;
       const int v = vm.faces(fv, k);
       if (self && (v == face[0] || v == face[1] || v == face[2])) continue;
-      if (rest && rest->vertex_face(v, ff)) continue;
+      if (mask & (1u << (rest_bit + k))) continue;
       if (!overlap(vb[static_cast<std::size_t>(v)], fbox)) continue;
       vf.push_back({vmi, v, fmi, ff});
     }
@@ -204,9 +205,12 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
 
   for (std::size_t k = first; k < end; ++k) {
     const FacePair& fp = m_face_pairs[k];
-    if (rest && rest->faces(fp.a, fp.b)) continue;
-    vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b);
-    vertex_face(B, tb, vbb, mb, fp.b, A, fba, ma, fp.a);
+    const std::uint16_t mask = rest ? rest->mask(fp.a, fp.b) : std::uint16_t{0};
+    if (mask == RestNeighbours::kAll) continue;
+    vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b, mask,
+                RestNeighbours::vertex_face_bit(false, 0));
+    vertex_face(B, tb, vbb, mb, fp.b, A, fba, ma, fp.a, mask,
+                RestNeighbours::vertex_face_bit(true, 0));
     // Owned edges of one face against owned edges of the other.
     const std::uint8_t oa = ta.owned_edges[static_cast<std::size_t>(fp.a)];
     const std::uint8_t ob = tb.owned_edges[static_cast<std::size_t>(fp.b)];
@@ -220,7 +224,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
         if ((ob & (1u << j)) == 0) continue;
         const int eb = tb.face_edges[static_cast<std::size_t>(fp.b)][static_cast<std::size_t>(j)];
         if (self && shares_vertex(va, tb.edges[static_cast<std::size_t>(eb)])) continue;
-        if (rest && rest->edge_edge(ea, eb)) continue;
+        if (mask & (1u << RestNeighbours::edge_edge_bit(i, j))) continue;
         if (!overlap(abox, ebb[static_cast<std::size_t>(eb)])) continue;
         ee.push_back({ma, ea, mb, eb});
       }

@@ -23,22 +23,13 @@ double rest_edge_edge_distance(const Points& rest, const std::array<int, 2>& e,
   return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm();
 }
 
-bool RestNeighbours::contains(const Lists& l, int i, int j) {
-  if (l.start.empty()) return false;
-  const auto first = l.list.begin() + l.start[static_cast<std::size_t>(i)];
-  const auto last = l.list.begin() + l.start[static_cast<std::size_t>(i) + 1];
-  return std::binary_search(first, last, j);
-}
-
-void RestNeighbours::fill(std::vector<std::vector<int>>& per_index, Lists& out) {
-  out.start.assign(1, 0);
-  out.list.clear();
-  for (std::vector<int>& l : per_index) {
-    std::sort(l.begin(), l.end());
-    l.erase(std::unique(l.begin(), l.end()), l.end());
-    out.list.insert(out.list.end(), l.begin(), l.end());
-    out.start.push_back(static_cast<int>(out.list.size()));
-  }
+std::uint16_t RestNeighbours::mask(int f, int g) const {
+  if (m_start.empty()) return 0;
+  const auto first = m_entries.begin() + m_start[static_cast<std::size_t>(f)];
+  const auto last = m_entries.begin() + m_start[static_cast<std::size_t>(f) + 1];
+  const auto it =
+      std::lower_bound(first, last, g, [](const Entry& e, int face) { return e.face < face; });
+  return it != last && it->face == g ? it->mask : std::uint16_t{0};
 }
 
 void RestNeighbours::build(const Points& rest, const Triangles& faces, const MeshTopology& topology,
@@ -52,48 +43,51 @@ void RestNeighbours::build(const Points& rest, const Triangles& faces, const Mes
   std::vector<FacePair> pairs;
   self_overlapping_faces(tree, faces, false, pairs);
 
-  std::vector<std::vector<int>> vf(static_cast<std::size_t>(rest.rows()));
-  std::vector<std::vector<int>> ee(topology.edges.size());
-  std::vector<std::vector<int>> ff(static_cast<std::size_t>(faces.rows()));
   const auto corners = [&](int f) {
     return std::array<int, 3>{faces(f, 0), faces(f, 1), faces(f, 2)};
   };
-  // Vertex–face pairs of corners of `f` against `g`; false if one is not a neighbour.
-  const auto vertex_face = [&](int f, int g) {
+  // Bits of corner k of `f` against face `g` (a corner of g: a pair never tested, counted in).
+  const auto vertex_face = [&](int f, int g, bool of_g) {
     const std::array<int, 3> face = corners(g);
-    bool all = true;
-    for (int v : corners(f)) {
-      if (v == face[0] || v == face[1] || v == face[2]) continue;
-      if (rest_vertex_face_distance(rest, v, face) < distance)
-        vf[static_cast<std::size_t>(v)].push_back(g);
-      else
-        all = false;
+    std::uint16_t bits = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces(f, k);
+      if (v == face[0] || v == face[1] || v == face[2] ||
+          rest_vertex_face_distance(rest, v, face) < distance)
+        bits |= static_cast<std::uint16_t>(1u << vertex_face_bit(of_g, k));
     }
-    return all;
+    return bits;
   };
+  std::vector<std::vector<Entry>> lists(static_cast<std::size_t>(faces.rows()));
   for (const FacePair& p : pairs) {
-    bool all = vertex_face(p.a, p.b);
-    all = vertex_face(p.b, p.a) && all;
-    for (int ea : topology.face_edges[static_cast<std::size_t>(p.a)])
-      for (int eb : topology.face_edges[static_cast<std::size_t>(p.b)]) {
-        const std::array<int, 2>& a = topology.edges[static_cast<std::size_t>(ea)];
-        const std::array<int, 2>& b = topology.edges[static_cast<std::size_t>(eb)];
-        if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
-        if (rest_edge_edge_distance(rest, a, b) < distance) {
-          ee[static_cast<std::size_t>(ea)].push_back(eb);
-          ee[static_cast<std::size_t>(eb)].push_back(ea);
-        } else {
-          all = false;
-        }
+    std::uint16_t ab = vertex_face(p.a, p.b, false) | vertex_face(p.b, p.a, true);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const std::array<int, 2>& a = topology.edges[static_cast<std::size_t>(
+            topology.face_edges[static_cast<std::size_t>(p.a)][static_cast<std::size_t>(i)])];
+        const std::array<int, 2>& b = topology.edges[static_cast<std::size_t>(
+            topology.face_edges[static_cast<std::size_t>(p.b)][static_cast<std::size_t>(j)])];
+        if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1] ||
+            rest_edge_edge_distance(rest, a, b) < distance)
+          ab |= static_cast<std::uint16_t>(1u << edge_edge_bit(i, j));
       }
-    if (all) {
-      ff[static_cast<std::size_t>(p.a)].push_back(p.b);
-      ff[static_cast<std::size_t>(p.b)].push_back(p.a);
-    }
+    if ((ab & kAll) == 0) continue;
+    // The same mask seen from b: its corners' bits and the edge pairs transposed.
+    std::uint16_t ba = static_cast<std::uint16_t>(((ab & 0x7u) << 3) | ((ab >> 3) & 0x7u));
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (ab & (1u << edge_edge_bit(i, j)))
+          ba |= static_cast<std::uint16_t>(1u << edge_edge_bit(j, i));
+    lists[static_cast<std::size_t>(p.a)].push_back({p.b, ab});
+    lists[static_cast<std::size_t>(p.b)].push_back({p.a, ba});
   }
-  fill(vf, m_vf);
-  fill(ee, m_ee);
-  fill(ff, m_ff);
+  m_start.assign(1, 0);
+  m_entries.clear();
+  for (std::vector<Entry>& l : lists) {
+    std::sort(l.begin(), l.end(), [](const Entry& x, const Entry& y) { return x.face < y.face; });
+    m_entries.insert(m_entries.end(), l.begin(), l.end());
+    m_start.push_back(static_cast<int>(m_entries.size()));
+  }
 }
 
 }  // namespace dexcloth::collision

@@ -3,6 +3,7 @@
 /// (bending neighbours, never contacts; see find_proximities). Listed once per cloth so that the
 /// per-step proximity search can leave them out before testing them.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "cloth/collision/mesh_topology.hpp"
@@ -16,34 +17,34 @@ double rest_vertex_face_distance(const Points& rest, int v, const std::array<int
 double rest_edge_edge_distance(const Points& rest, const std::array<int, 2>& e,
                                const std::array<int, 2>& g);
 
-/// The rest neighbours of one cloth at one distance: vertex–face pairs, edge–edge pairs (edges
-/// as indexed by its MeshTopology) and face pairs all of whose primitive pairs are neighbours.
+/// The rest neighbours of one cloth at one distance, by face pair: for faces f and g, a mask of
+/// which of their 15 primitive pairs are closer than the distance at rest (a pair sharing a
+/// vertex counts as one). Bits: corner k of f against g (k), corner k of g against f (3 + k),
+/// edge i of f against edge j of g (6 + 3i + j), edges as MeshTopology::face_edges orders them.
 class RestNeighbours {
  public:
-  /// Lists every vertex–face pair (vertex not a corner of the face) and edge–edge pair (no
-  /// shared vertex) of `faces` whose distance in `rest` is below `distance` [m] (> 0).
+  /// Every primitive pair of the faces.
+  static constexpr std::uint16_t kAll = 0x7fff;
+  static constexpr int vertex_face_bit(bool of_g, int corner) { return (of_g ? 3 : 0) + corner; }
+  static constexpr int edge_edge_bit(int i, int j) { return 6 + 3 * i + j; }
+
+  /// Finds the masks of every face pair of `faces` with a primitive pair closer than
+  /// `distance` [m] (> 0) in `rest`.
   void build(const Points& rest, const Triangles& faces, const MeshTopology& topology,
              double distance);
-  /// The distance the lists were built for (0: not built).
+  /// The distance the masks were built for (0: not built).
   double distance() const { return m_distance; }
-  /// Whether vertex v and face f are closer than distance() at rest.
-  bool vertex_face(int v, int f) const { return contains(m_vf, v, f); }
-  /// Whether edges e and g are closer than distance() at rest.
-  bool edge_edge(int e, int g) const { return contains(m_ee, e, g); }
-  /// Whether every vertex–face and edge–edge pair of faces f and g (those sharing no vertex)
-  /// is a rest neighbour.
-  bool faces(int f, int g) const { return contains(m_ff, f, g); }
+  /// The mask of faces f and g (0: no rest neighbours between them).
+  std::uint16_t mask(int f, int g) const;
 
  private:
-  /// Sorted lists per index: the entries of i at list[start[i] .. start[i+1]).
-  struct Lists {
-    std::vector<int> start, list;
+  struct Entry {
+    int face{};
+    std::uint16_t mask{};
   };
-  static bool contains(const Lists& l, int i, int j);
-  static void fill(std::vector<std::vector<int>>& per_index, Lists& out);
-
   double m_distance{};
-  Lists m_vf, m_ee, m_ff;
+  std::vector<int> m_start;      // |F|+1: face f's entries at m_entries[m_start[f] ..]
+  std::vector<Entry> m_entries;  // sorted by face within each face's range
 };
 
 }  // namespace dexcloth::collision
