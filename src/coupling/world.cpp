@@ -37,7 +37,10 @@ WorldData make_data(const WorldModel& model, RigidSide rigid) {
 void set_threads(WorldModel& model, int threads) {
   DEXCLOTH_DEMAND(threads >= 1);
   model.threads = threads;
-  for (ClothBody& body : model.cloths) body.model.solver.threads = threads;
+  // A small cloth's factorisation is done before the pool's threads would wake up.
+  constexpr int kParallelVertices = 2000;
+  for (ClothBody& body : model.cloths)
+    body.model.solver.threads = body.model.num_vertices() >= kParallelVertices ? threads : 1;
 }
 
 bool state_is_finite(const WorldData& data) {

@@ -60,7 +60,9 @@ struct WorldModel {
   int threads{1};  ///< threads of the step's parallel parts (set_threads); results do not depend on it
 };
 
-/// Runs the step's parallel parts (each cloth's linear solve, ...) on `threads` ≥ 1 threads.
+/// Runs the step's parallel parts (each cloth's linear solve, the collision searches) on
+/// `threads` ≥ 1 threads, where they are big enough to gain from it (a cloth of fewer than 2000
+/// vertices is solved on one).
 void set_threads(WorldModel& model, int threads);
 
 /// Wall-clock seconds spent per part of the step (paper Table 1).

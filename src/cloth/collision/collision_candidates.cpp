@@ -22,6 +22,10 @@ PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
   return m;
 }
 
+// Below these sizes a search runs on the calling thread (waking the pool costs tens of µs).
+constexpr int kParallelFaces = 2000;              // faces of a query's smaller tree
+constexpr std::size_t kParallelFacePairs = 4000;  // face pairs whose primitive pairs are made
+
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
   return e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1];
 }
@@ -55,8 +59,8 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   m_rest.resize(nm);
   for (std::size_t m = 0; m < nm; ++m) {
     const CollisionMesh& mesh = *meshes[m];
-    if (m_rest_distance > 0.0 && m_rest[m].distance() != m_rest_distance &&
-        mesh.rest.rows() > 0 && mesh.self_collision)
+    if (m_rest_distance > 0.0 && m_rest[m].distance() != m_rest_distance && mesh.rest.rows() > 0 &&
+        mesh.self_collision)
       m_rest[m].build(mesh.rest, mesh.faces, m_topology[m], m_rest_distance);
   }
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
@@ -84,10 +88,9 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     std::vector<PrimitiveBox>& fb = m_face_boxes[m];
     fb.resize(static_cast<std::size_t>(mesh.faces.rows()));
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
-      fb[static_cast<std::size_t>(f)] =
-          merge(merge(vb[static_cast<std::size_t>(mesh.faces(f, 0))],
-                      vb[static_cast<std::size_t>(mesh.faces(f, 1))]),
-                vb[static_cast<std::size_t>(mesh.faces(f, 2))]);
+      fb[static_cast<std::size_t>(f)] = merge(merge(vb[static_cast<std::size_t>(mesh.faces(f, 0))],
+                                                    vb[static_cast<std::size_t>(mesh.faces(f, 1))]),
+                                              vb[static_cast<std::size_t>(mesh.faces(f, 2))]);
   }
   // Primitive pairs of every relevant mesh pair.
   m_vf.clear();
@@ -115,16 +118,13 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   const Bvh& ta = m_bvh[static_cast<std::size_t>(ma)];
   const Bvh& tb = m_bvh[static_cast<std::size_t>(mb)];
   const bool self = ma == mb;
-  const int threads = m_pool ? m_pool->threads() : 1;
   // Overlapping faces: the query in pieces shared round-robin among the threads, their pairs
-  // concatenated in the pieces' order (the order of the whole query).
+  // concatenated in the pieces' order (the order of the whole query). A small query runs on
+  // the calling thread: waking the pool costs more than it does.
+  const int query_faces = self ? ta.num_faces() : std::min(ta.num_faces(), tb.num_faces());
+  const int threads = m_pool && query_faces >= kParallelFaces ? m_pool->threads() : 1;
   split_query(ta, tb, self, threads > 1 ? 8 * threads : 1, m_queries);
-  const std::size_t pieces = std::max(m_queries.size(), static_cast<std::size_t>(4 * threads));
-  if (m_piece_pairs.size() < pieces) {
-    m_piece_pairs.resize(pieces);
-    m_piece_vf.resize(pieces);
-    m_piece_ee.resize(pieces);
-  }
+  if (m_piece_pairs.size() < m_queries.size()) m_piece_pairs.resize(m_queries.size());
   auto find_faces = [&](int t) {
     for (std::size_t k = static_cast<std::size_t>(t); k < m_queries.size();
          k += static_cast<std::size_t>(threads)) {
@@ -132,7 +132,7 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
       run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
     }
   };
-  if (m_pool) {
+  if (threads > 1) {
     m_pool->run(find_faces);
   } else {
     find_faces(0);
@@ -141,18 +141,24 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   for (std::size_t k = 0; k < m_queries.size(); ++k)
     m_face_pairs.insert(m_face_pairs.end(), m_piece_pairs[k].begin(), m_piece_pairs[k].end());
 
-  // Their primitive pairs: the face pairs in `pieces` consecutive chunks, likewise.
+  // Their primitive pairs: the face pairs in consecutive chunks, likewise (few on one thread).
   const std::size_t n = m_face_pairs.size();
+  const int pair_threads = m_pool && n >= kParallelFacePairs ? m_pool->threads() : 1;
+  const auto pieces = static_cast<std::size_t>(4 * pair_threads);
+  if (m_piece_vf.size() < pieces) {
+    m_piece_vf.resize(pieces);
+    m_piece_ee.resize(pieces);
+  }
   auto find_primitives = [&](int t) {
     for (std::size_t c = static_cast<std::size_t>(t); c < pieces;
-         c += static_cast<std::size_t>(threads)) {
+         c += static_cast<std::size_t>(pair_threads)) {
       m_piece_vf[c].clear();
       m_piece_ee[c].clear();
       primitive_pairs(meshes, ma, mb, n * c / pieces, n * (c + 1) / pieces, m_piece_vf[c],
                       m_piece_ee[c]);
     }
   };
-  if (m_pool) {
+  if (pair_threads > 1) {
     m_pool->run(find_primitives);
   } else {
     find_primitives(0);

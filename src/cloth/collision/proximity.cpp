@@ -125,7 +125,10 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
   candidates.update(meshes, false, 0.5 * thickness);
   // The vertex–face, then the edge–edge candidates, in consecutive chunks shared round-robin
   // among the pool's threads; the chunks' proximities concatenated in order.
-  WorkerPool* pool = candidates.pool();
+  // Few candidates are tested on the calling thread (waking the pool costs more).
+  constexpr std::size_t kParallelCandidates = 8000;
+  const std::size_t total = candidates.vertex_face().size() + candidates.edge_edge().size();
+  WorkerPool* pool = total >= kParallelCandidates ? candidates.pool() : nullptr;
   const int threads = pool ? pool->threads() : 1;
   const std::size_t chunks = 4 * static_cast<std::size_t>(threads);
   if (scratch.size() < 2 * chunks) scratch.resize(2 * chunks);
