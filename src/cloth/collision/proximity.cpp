@@ -3,7 +3,6 @@
 #include <numbers>
 
 #include "cloth/collision/closest_points.hpp"
-#include "cloth/collision/rest_neighbours.hpp"
 
 namespace dexcloth::collision {
 
@@ -38,21 +37,8 @@ bool across_surface(const Vec3& gap, const Vec3& direction) {
 // in the rest shape are bending neighbours, not contacts: on a mesh whose edges are about the
 // thickness long, a bent sheet otherwise pushes its own two-ring neighbours apart, and a napkin
 // hung by a corner crumpled into a ball. Continuous collision detection still stops them crossing.
+// The candidates leave them out (CollisionCandidates::set_rest_neighbour_distance).
 constexpr double kFoldLength = 0.5 * std::numbers::pi;
-
-/// True when the pair lies on one cloth with rest positions and closer than a fold at rest.
-bool rest_neighbours_vf(const CollisionMesh& vm, const CollisionMesh& fm, int v,
-                        const std::array<int, 3>& f, double thickness) {
-  return &vm == &fm && fm.rest.rows() > 0 &&
-         rest_vertex_face_distance(fm.rest, v, f) < kFoldLength * thickness;
-}
-
-bool rest_neighbours_ee(const CollisionMesh& ma, const CollisionMesh& mb,
-                        const std::array<int, 2>& ea, const std::array<int, 2>& eb,
-                        double thickness) {
-  return &ma == &mb && ma.rest.rows() > 0 &&
-         rest_edge_edge_distance(ma.rest, ea, eb) < kFoldLength * thickness;
-}
 
 /// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
 void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes, const VertexFacePair& c,
@@ -67,7 +53,6 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes, cons
   if (dist >= thickness) return;
   const bool cloth_pair = !vm.obstacle && !fm.obstacle;
   if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) return;
-  if (rest_neighbours_vf(vm, fm, c.vertex, {a, b, cc}, thickness)) return;
   Proximity prox;
   prox.edge_edge = false;
   prox.mesh = {c.vertex_mesh, c.face_mesh};
@@ -100,7 +85,6 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
   if (dist >= thickness) return;
   const bool cloth_pair = !ma.obstacle && !mb.obstacle;
   if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) return;
-  if (rest_neighbours_ee(ma, mb, ea, eb, thickness)) return;
   Proximity prox;
   prox.edge_edge = true;
   prox.mesh = {c.mesh_a, c.mesh_b};
