@@ -1,0 +1,64 @@
+/// Folding a napkin in half (paper Table 1, "Folding"): scenes/fold_napkin.json, two grippers
+/// that hold a flap of the napkin by friction alone, stand it over the middle and let it fall
+/// onto the far half; in both couplings.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cli_runner.hpp"
+
+using namespace dexcloth::test;
+
+namespace {
+
+/// Probe `p`'s sample at the first frame at or after t: {x, y, z}.
+std::array<double, 3> sample(const nlohmann::json& s, const std::string& p, double t) {
+  const auto& a = s["probes"][p];
+  std::size_t k = 0;
+  while (k + 1 < a.size() && a[k][0].get<double>() < t - 1e-9) ++k;
+  return {a[k][1].get<double>(), a[k][2].get<double>(), a[k][3].get<double>()};
+}
+
+double horizontal(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1]);
+}
+
+/// The most the gripped vertex moved relative to the jaw from t0 to any frame up to t1 [m].
+double worst_slip(const nlohmann::json& s, double t0, double t1) {
+  double worst = 0.0;
+  for (const auto& row : s["probes"]["jaw"]) {
+    const double t = row[0].get<double>();
+    if (t > t0 && t <= t1) worst = std::max(worst, relative_motion(s, "gripped", "jaw", t0, t));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(FoldNapkin, TwoGrippersFoldTheNapkinInHalfByFrictionAlone) {
+  const auto s = run_scene("fold_napkin");
+  expect_intact(s);
+  // Held: from the handle's release (1.2 s) until the jaws open (2.25 s) the gripped vertex
+  // moves with the jaw while the jaw travels 9 cm.
+  EXPECT_LT(worst_slip(s, 1.25, 2.2), 2e-3);
+  const auto jaw0 = sample(s, "jaw", 1.25), jaw1 = sample(s, "jaw", 2.2);
+  EXPECT_GT(std::hypot(jaw1[1] - jaw0[1], jaw1[2] - jaw0[2]), 0.04);
+  // The far half lies where the lift left it: not dragged by the fold.
+  EXPECT_LT(horizontal(sample(s, "far_edge", 3.5), sample(s, "far_edge", 1.2)), 5e-3);
+  // Folded in half: the near edge and corner lie on the far ones, one layer (the 5 mm
+  // repulsion thickness, within 3 mm) above them.
+  for (const auto& [top, bottom] : {std::pair{"edge", "far_edge"}, {"near_corner", "far_corner"}}) {
+    const auto a = sample(s, top, 3.5), b = sample(s, bottom, 3.5);
+    EXPECT_LT(horizontal(a, b), 0.01) << top;
+    EXPECT_NEAR(a[2] - b[2], 0.005, 0.003) << top;
+  }
+}
+
+TEST(FoldNapkin, TheKinematicBaselineLetsTheFlapSlipInTheJaws) {
+  // With the jaws as kinematic obstacles, friction comes only from the capped repulsion: the
+  // flap slips in the jaws as they carry it (4 mm by 1.8 s against 0.2 mm in bai-liu).
+  const auto s = run_scene("fold_napkin", "--coupling kinematic --duration 2.2");
+  expect_intact(s);
+  EXPECT_GT(worst_slip(s, 1.25, 2.2), 2e-3);
+}
