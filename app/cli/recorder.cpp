@@ -36,7 +36,10 @@ Recorder::Recorder(const std::filesystem::path& out, const scene::SceneSpec& spe
     shape.mesh_vertices = (rigid.meshes[m].x * X_BW.linear().transpose()).rowwise() +
                           X_BW.translation().transpose();
     shape.mesh_faces = rigid.meshes[m].faces;
-    if (rigid.mesh_actuated[m]) shape.colour = Vec3(0.87, 0.72, 0.60);
+    // Hands and grippers in skin colour; obstacles keep the viewer's default.
+    const int skeleton = rigid.world->body_skeleton(rigid.mesh_body[m]).index;
+    for (const control::BuiltBody& b : rigid.bodies)
+      if (b.skeleton.index == skeleton) shape.colour = Vec3(0.87, 0.72, 0.60);
     m_header.rigid_shapes.push_back(std::move(shape));
   }
   m_writer.open(out / "recording", m_header);

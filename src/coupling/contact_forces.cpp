@@ -354,7 +354,7 @@ void friction_constraints(int cloth_meshes, double h, double coplanar_deg, World
     GripSurface out;
     const bool cloth = cg.other_mesh < cloth_meshes;  // a squeezed stack's neighbouring layer
     const auto m = static_cast<std::size_t>(cg.other_mesh - (cloth ? 0 : cloth_meshes));
-    out.actuated = cloth || data.rigid.mesh_actuated[m];
+    out.actuated = cloth || data.rigid.mesh_coupled[m];
     const Points& v = cloth ? data.cloths[m].v : data.rigid.meshes[m].v;
     for (std::size_t j = 0; j < 3; ++j)
       if (cg.other_vertices[j] >= 0)

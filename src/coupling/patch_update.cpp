@@ -99,7 +99,7 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
   data.patch_vertices.clear();
   const auto actuated = [&](const ContactGroup& g) {
     const int m = g.other_mesh - cloth_meshes;
-    return m >= 0 && data.rigid.mesh_actuated[static_cast<std::size_t>(m)];
+    return m >= 0 && data.rigid.mesh_coupled[static_cast<std::size_t>(m)];
   };
   for (int c = 0; c < cloth_meshes; ++c) {
     const collision::CollisionMesh& mesh = data.meshes[static_cast<std::size_t>(c)];

@@ -89,7 +89,9 @@ struct RigidSide {
   std::vector<control::BuiltBody> bodies;
   std::vector<rigid::ObstacleMesh> meshes;        ///< body collision meshes, refreshed per step
   std::vector<rigid::BodyId> mesh_body;           ///< DART body of each mesh
-  std::vector<std::uint8_t> mesh_actuated;        ///< 1: a skeleton from `bodies` (hand, gripper)
+  /// 1: a skeleton the cloth pushes back on through patches: a hand or gripper from `bodies`,
+  /// or a dynamic obstacle (mass > 0); 0: a static or keyframed obstacle.
+  std::vector<std::uint8_t> mesh_coupled;
 };
 
 /// Everything a step changes.

@@ -72,18 +72,23 @@ coupling::RigidSide build_rigid(const SceneSpec& spec, ErrorList& errors) {
   options.gravity_W = spec.gravity;
   options.substeps = spec.coupling.rigid_substeps;
   side.world = std::make_unique<rigid::RigidWorld>(options);
-  for (const ObstacleSpec& o : spec.obstacles) side.world->add_prop(to_prop(o));
+  // Skeletons the cloth pushes back on (paper §5's rigid patches): the hands and grippers of
+  // `bodies`, and dynamic obstacles (a box on a tablecloth, an object in a sling).
+  std::vector<int> coupled_skeletons;
+  for (const ObstacleSpec& o : spec.obstacles) {
+    const rigid::SkeletonId s = side.world->add_prop(to_prop(o));
+    if (o.mass > 0.0) coupled_skeletons.push_back(s.index);
+  }
   const std::string scene_dir = std::filesystem::path(spec.file).parent_path().string();
   std::vector<control::BodySpec> body_specs;
   for (std::size_t b = 0; b < spec.bodies.size(); ++b)
     body_specs.push_back(control::parse_body_spec(spec.bodies[b], spec.file,
                                                   "/bodies/" + std::to_string(b), scene_dir, errors));
   if (!errors.empty()) return side;
-  std::vector<int> actuated_skeletons;
   for (const control::BodySpec& body : body_specs) {
     try {
       side.bodies.push_back(control::build_body(*side.world, body, spec.file));
-      actuated_skeletons.push_back(side.bodies.back().skeleton.index);
+      coupled_skeletons.push_back(side.bodies.back().skeleton.index);
     } catch (const InputRejected& e) {
       for (const InputError& err : e.errors().errors()) errors.add(err.file, err.pointer, err.message);
     }
@@ -93,8 +98,8 @@ coupling::RigidSide build_rigid(const SceneSpec& spec, ErrorList& errors) {
     const rigid::BodyId body = side.world->body(mesh.name);
     side.mesh_body.push_back(body);
     const int skeleton = side.world->body_skeleton(body).index;
-    side.mesh_actuated.push_back(std::find(actuated_skeletons.begin(), actuated_skeletons.end(),
-                                           skeleton) != actuated_skeletons.end());
+    side.mesh_coupled.push_back(std::find(coupled_skeletons.begin(), coupled_skeletons.end(),
+                                           skeleton) != coupled_skeletons.end());
   }
   return side;
 }
