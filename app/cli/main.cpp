@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "core/heap.hpp"
 #include "io/obj_export.hpp"
 #include "io/recording.hpp"
 #include "io/viewer_launch.hpp"
@@ -21,6 +22,7 @@ std::string recording_dir(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dexcloth::keep_heap_top();
   CLI::App cli{"dexcloth: hands and grippers manipulating cloth (Bai & Liu coupling on DART)"};
   cli.require_subcommand(1);
 
