@@ -22,7 +22,7 @@ using namespace dexcloth;
 
 struct Options {
   int threads{2};
-  double duration{0.0};  ///< 0: each scene's own
+  double duration{0.0};             ///< 0: each scene's own
   std::vector<std::string> scenes;  ///< names; empty: every scene
 };
 
@@ -30,8 +30,10 @@ Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--threads" || a == "--duration") && i + 1 < argc) {
-      (a == "--threads" ? o.threads = std::atoi(argv[++i]) : (o.duration = std::atof(argv[++i]), 0));
+    if (a == "--threads" && i + 1 < argc) {
+      o.threads = std::atoi(argv[++i]);
+    } else if (a == "--duration" && i + 1 < argc) {
+      o.duration = std::atof(argv[++i]);
     } else if (!a.empty() && a[0] != '-') {
       o.scenes.push_back(a);
     } else {
@@ -90,8 +92,9 @@ int main(int argc, char** argv) {
   std::printf("Table 1 (each scene's own coupling, %d thread%s%s)\n\n", o.threads,
               o.threads == 1 ? "" : "s",
               o.duration > 0.0 ? (", first " + std::to_string(o.duration) + " s").c_str() : "");
-  std::printf("| scene | triangles | simulated s | s/step (mean) | s/step (median) | cloth | rigid "
-              "| interface |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| scene | triangles | simulated s | s/step (mean) | s/step (median) | cloth | rigid "
+      "| interface |\n|---|---|---|---|---|---|---|---|\n");
   int failures = 0;
   for (const std::string& name : names) {
     const std::filesystem::path path = dir / (name + ".json");
