@@ -49,6 +49,7 @@ void group_contacts(int cloth_meshes, double h, WorldData& data) {
       it->record_weight = w;
       it->other_vertices = r.other_vertices;
       it->other_weights = r.weights;
+      it->friction_share = r.friction_share;
     }
     it->normal += w * r.normal;
     it->other_velocity += w * r.other_velocity;
@@ -409,19 +410,30 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
       for (int k = 0; k < count; ++k) {
         const ContactGroup& cg = groups[g + static_cast<std::size_t>(k)];
         const collision::CollisionMesh& other = data.meshes[static_cast<std::size_t>(cg.other_mesh)];
+        // Against cloth the vertex stops only its share of the relative velocity: the other
+        // side's vertices stop the rest, and the two sides' impulses cancel (momentum is kept;
+        // each side stopping it all made a crumpled cloth crawl across a table on its own).
         contacts[static_cast<std::size_t>(k)] = {cg.normal, cg.normal_force,
                                                  collision::pair_friction(mesh, other),
-                                                 v - cg.other_velocity};
+                                                 cg.friction_share * (v - cg.other_velocity)};
       }
       const FrictionResult r = solve_friction(
           std::span<const FrictionContact>(contacts.data(), static_cast<std::size_t>(count)),
           mesh.mass[i], h, coplanar_sin);
       mesh.x1.row(i) += h * r.delta_v.transpose();
-      // Static friction: a position constraint through the refinement steps (paper §3, §7.2).
-      // Never freeze a vertex still closing on a surface: the impact zones must be free to stop
-      // it (a frozen vertex driven into an obstacle cannot be resolved).
-      if (r.which == FrictionCase::static_at &&
-          !closing(groups, g, g + static_cast<std::size_t>(count), v + r.delta_v)) {
+      // Static friction holds the vertex as a position constraint through the refinement steps
+      // (paper §3, §7.2) only against a hand, gripper or dynamic obstacle. Frozen against cloth
+      // or a table, it took the impact zones' whole push of the layers above it (infinite
+      // mass), and a crumpled cloth rose and crawled across a table on its own. Never freeze a
+      // vertex still closing on a surface: the impact zones must be free to stop it (a frozen
+      // vertex driven into an obstacle cannot be resolved).
+      bool on_body = false;
+      if (r.which == FrictionCase::static_at) {
+        const int m = groups[g + static_cast<std::size_t>(r.anchor)].other_mesh;
+        const int cloths = static_cast<int>(data.cloths.size());
+        on_body = m >= cloths && data.rigid.mesh_coupled[static_cast<std::size_t>(m - cloths)];
+      }
+      if (on_body && !closing(groups, g, g + static_cast<std::size_t>(count), v + r.delta_v)) {
         mesh.frozen[static_cast<std::size_t>(i)] = collision::kHeldByFriction;
         ++frozen;
       }

@@ -27,6 +27,7 @@ struct ContactGroup {
   std::array<int, 3> other_vertices{-1, -1, -1};
   Vec3 other_weights{Vec3::Zero()};
   double record_weight{};            ///< weight of that record
+  double friction_share{1.0};        ///< that record's VertexContact::friction_share
 };
 
 /// End of the run of groups of the vertex whose first group is `first` (group_contacts keeps

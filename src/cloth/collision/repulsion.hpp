@@ -46,6 +46,10 @@ struct VertexContact {
                                ///< face (VertexFace), (1,0,0) (FaceVertex), (1−u, u, 0) (EdgeEdge)
   std::array<int, 3> other_vertices{-1, -1, -1};  ///< the other side's vertices those weigh (−1:
                                                   ///< unused)
+  /// Share of the pair's relative velocity this vertex takes away when the pair sticks, so that
+  /// the two sides' friction impulses cancel: |w_v|/m_v / (K_self + K_other), K = Σ w_k²/m_k of
+  /// a side (fixed vertices weigh nothing). 1 against an obstacle (the vertex alone stops).
+  double friction_share{1.0};
 };
 
 /// Applies repulsion (and, with `options.friction`, friction) impulses for every pair in
