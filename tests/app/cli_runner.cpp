@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "io/recording.hpp"
+
 namespace dexcloth::test {
 
 CliResult run_cli(const std::string& args, const std::string& prefix) {
@@ -100,6 +102,19 @@ void expect_intact(const nlohmann::json& s) {
   EXPECT_EQ(s["nan"], false);
   for (const auto& w : s["warnings"])
     EXPECT_EQ(w["message"].get<std::string>().find("lost"), std::string::npos) << w;
+}
+
+std::vector<ClothFrame> cloth_frames(const std::filesystem::path& out, int cloth,
+                                     dexcloth::Triangles* faces) {
+  const dexcloth::io::RecordingReader reader(out / "recording");
+  if (faces) *faces = reader.header().cloths.at(static_cast<std::size_t>(cloth)).faces;
+  std::vector<ClothFrame> frames;
+  for (long k = 0; k < reader.frame_count(); ++k) {
+    auto frame = reader.read_frame(k);
+    frames.push_back(
+        {frame.t, std::move(frame.cloth_positions.at(static_cast<std::size_t>(cloth)))});
+  }
+  return frames;
 }
 
 }  // namespace dexcloth::test

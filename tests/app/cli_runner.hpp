@@ -1,9 +1,10 @@
 #pragma once
 /// Runs the dexcloth executable in tests and captures its exit code and output.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "core/types.hpp"
 
 namespace dexcloth::test {
 
@@ -45,6 +46,17 @@ struct Carry {
   double rise{};
 };
 Carry carry(const nlohmann::json& s, const std::string& pinched, double release);
+
+/// One recorded frame of a cloth: simulated time [s] and vertex positions [m].
+struct ClothFrame {
+  double t{};
+  dexcloth::Points x;
+};
+
+/// Every recorded frame of cloth `cloth` (header order) in the run folder `out`, and the
+/// cloth's faces in `faces` if given.
+std::vector<ClothFrame> cloth_frames(const std::filesystem::path& out, int cloth = 0,
+                                     dexcloth::Triangles* faces = nullptr);
 
 /// Expects a run's summary to show no cloth–cloth or cloth–body intersection at any recorded
 /// frame, no NaN, and no warning of lost state.

@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "cli_runner.hpp"
-#include "io/recording.hpp"
 
 using namespace dexcloth::test;
 
@@ -15,25 +14,24 @@ namespace {
 /// Centre of mass of the recorded cloth at each frame, with vertex masses from the triangles
 /// around each vertex (a uniform grid: the same weights as the lumped masses): {t, x, y, z}.
 std::vector<std::array<double, 4>> centroids(const std::filesystem::path& out) {
-  const dexcloth::io::RecordingReader reader(out / "recording");
-  const auto& cloth = reader.header().cloths.at(0);
-  std::vector<double> weight(static_cast<std::size_t>(cloth.vertex_count), 0.0);
-  for (Eigen::Index f = 0; f < cloth.faces.rows(); ++f)
-    for (int k = 0; k < 3; ++k) weight[static_cast<std::size_t>(cloth.faces(f, k))] += 1.0;
+  dexcloth::Triangles faces;
+  const std::vector<ClothFrame> frames = cloth_frames(out, 0, &faces);
+  std::vector<double> weight(frames.empty() ? 0 : static_cast<std::size_t>(frames[0].x.rows()),
+                             0.0);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) weight[static_cast<std::size_t>(faces(f, k))] += 1.0;
   double total = 0.0;
   for (double w : weight) total += w;
-  std::vector<std::array<double, 4>> out_rows;
-  for (long k = 0; k < reader.frame_count(); ++k) {
-    const auto frame = reader.read_frame(k);
+  std::vector<std::array<double, 4>> rows;
+  for (const ClothFrame& frame : frames) {
     std::array<double, 4> row{frame.t, 0.0, 0.0, 0.0};
-    const auto& x = frame.cloth_positions.at(0);
-    for (Eigen::Index i = 0; i < x.rows(); ++i)
+    for (Eigen::Index i = 0; i < frame.x.rows(); ++i)
       for (int a = 0; a < 3; ++a)
         row[static_cast<std::size_t>(a + 1)] +=
-            weight[static_cast<std::size_t>(i)] * x(i, a) / total;
-    out_rows.push_back(row);
+            weight[static_cast<std::size_t>(i)] * frame.x(i, a) / total;
+    rows.push_back(row);
   }
-  return out_rows;
+  return rows;
 }
 
 /// The row at the first frame at or after t.
