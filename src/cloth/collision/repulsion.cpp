@@ -133,10 +133,6 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
         weights[k - other_begin] = wk;
         other_vertices[static_cast<std::size_t>(k - other_begin)] = c.vertex[static_cast<std::size_t>(k)];
       }
-      // Effective inverse masses of the two sides (the sticking impulse is v_rel / (K + K')).
-      double k_pair = 0.0;
-      for (int k = 0; k < 4; ++k)
-        k_pair += p.w[k] * p.w[k] * c.inv_mass[static_cast<std::size_t>(k)];
       for (int k = begin; k < end; ++k) {
         if (p.w[k] == 0.0) continue;
         VertexContact vc;
@@ -154,8 +150,9 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
         vc.face_or_edge = side == 0 ? p.second : p.first;
         vc.weights = weights;
         vc.other_vertices = other_vertices;
-        if (!vc.with_obstacle && k_pair > 0.0)
-          vc.friction_share = std::abs(p.w[k]) * c.inv_mass[static_cast<std::size_t>(k)] / k_pair;
+        // inv_k: both sides' effective inverse masses (the sticking impulse is v_rel / inv_k).
+        if (!vc.with_obstacle && inv_k[i] > 0.0)
+          vc.friction_share = std::abs(p.w[k]) * c.inv_mass[static_cast<std::size_t>(k)] / inv_k[i];
         contacts.push_back(vc);
       }
     }
