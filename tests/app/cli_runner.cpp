@@ -43,12 +43,19 @@ nlohmann::json read_json(const std::filesystem::path& path) {
 
 std::filesystem::path source_dir() { return DEXCLOTH_SOURCE_DIR; }
 
-nlohmann::json run_scene(const std::string& name, const std::string& args) {
-  const std::filesystem::path out = fresh_dir(name);
-  const auto r = run_cli("run " + (source_dir() / "scenes" / (name + ".json")).string() +
-                         " --quiet --out " + out.string() + " " + args);
+CliRun run_file(const std::filesystem::path& scene, const std::string& name,
+                const std::string& args) {
+  CliRun run;
+  run.out = fresh_dir(name);
+  const auto r =
+      run_cli("run " + scene.string() + " --quiet --out " + run.out.string() + " " + args);
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  return read_json(out / "summary.json");
+  run.summary = read_json(run.out / "summary.json");
+  return run;
+}
+
+nlohmann::json run_scene(const std::string& name, const std::string& args) {
+  return run_file(source_dir() / "scenes" / (name + ".json"), name, args).summary;
 }
 
 double probe_distance(const nlohmann::json& a, const nlohmann::json& b) {
@@ -115,6 +122,13 @@ std::vector<ClothFrame> cloth_frames(const std::filesystem::path& out, int cloth
         {frame.t, std::move(frame.cloth_positions.at(static_cast<std::size_t>(cloth)))});
   }
   return frames;
+}
+
+Heights heights_at(const std::vector<ClothFrame>& frames, double t) {
+  for (const ClothFrame& f : frames)
+    if (f.t >= t - 1e-9) return {f.x.col(2).minCoeff(), f.x.col(2).maxCoeff(), f.x.col(2).mean()};
+  ADD_FAILURE() << "no frame at or after t = " << t;
+  return {};
 }
 
 }  // namespace dexcloth::test

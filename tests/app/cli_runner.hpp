@@ -26,8 +26,18 @@ nlohmann::json read_json(const std::filesystem::path& path);
 /// Repository root (for scenes/ and tests data).
 std::filesystem::path source_dir();
 
-/// Runs scenes/<name>.json through the CLI with extra arguments into a fresh folder; a non-zero
-/// exit fails the test. Returns its summary.json.
+/// A finished run: its summary.json and its output folder (for the recording).
+struct CliRun {
+  nlohmann::json summary;
+  std::filesystem::path out;
+};
+
+/// Runs the scene file `scene` through the CLI with extra arguments into fresh_dir(`name`); a
+/// non-zero exit fails the test.
+CliRun run_file(const std::filesystem::path& scene, const std::string& name,
+                const std::string& args = "");
+
+/// run_file on scenes/<name>.json; returns its summary.json.
 nlohmann::json run_scene(const std::string& name, const std::string& args = "");
 
 /// Distance between two probe samples [t, x, y, z] [m].
@@ -57,6 +67,14 @@ struct ClothFrame {
 /// cloth's faces in `faces` if given.
 std::vector<ClothFrame> cloth_frames(const std::filesystem::path& out, int cloth = 0,
                                      dexcloth::Triangles* faces = nullptr);
+
+/// Lowest, highest and mean height (z) of a cloth's vertices [m].
+struct Heights {
+  double min{}, max{}, mean{};
+};
+
+/// The heights at the first of `frames` at or after t [s] (a test failure if there is none).
+Heights heights_at(const std::vector<ClothFrame>& frames, double t);
 
 /// Expects a run's summary to show no cloth–cloth or cloth–body intersection at any recorded
 /// frame, no NaN, and no warning of lost state.

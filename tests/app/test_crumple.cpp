@@ -42,12 +42,9 @@ std::array<double, 4> at(const std::vector<std::array<double, 4>>& rows, double 
 }
 
 std::filesystem::path run_crumple(const std::string& name, const std::string& args = "") {
-  const auto out = fresh_dir(name);
-  const auto scene = source_dir() / "tests" / "app" / "data" / "crumple.json";
-  const auto r = run_cli("run " + scene.string() + " --quiet --out " + out.string() + " " + args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  expect_intact(read_json(out / "summary.json"));
-  return out;
+  const CliRun run = run_file(source_dir() / "tests" / "app" / "data" / "crumple.json", name, args);
+  expect_intact(run.summary);
+  return run.out;
 }
 
 }  // namespace

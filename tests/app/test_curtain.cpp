@@ -12,16 +12,6 @@ using namespace dexcloth::test;
 
 namespace {
 
-/// Runs a scene file (absolute path) with extra arguments into a fresh folder; returns its
-/// summary.json.
-nlohmann::json run_file(const std::filesystem::path& scene, const std::string& name,
-                        const std::string& args = "") {
-  const auto out = fresh_dir(name);
-  const auto r = run_cli("run " + scene.string() + " --quiet --out " + out.string() + " " + args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  return read_json(out / "summary.json");
-}
-
 /// Coordinate i (1: x, 2: y, 3: z) of probe `p`'s sample k.
 double at(const nlohmann::json& s, const std::string& p, std::size_t k, int i) {
   return s["probes"][p][k][static_cast<std::size_t>(i)].get<double>();
@@ -33,7 +23,7 @@ TEST(RodSlide, AStripOnAFrictionlessRodTranslatesAlongItAtGSinTheta) {
   // Gravity tilted 30° toward +x: every vertex gets a = g sin 30° along the rod, which holds
   // the rest, so the strip translates rigidly along x. Implicit Euler from rest gives
   // v_n = n·h·a and x_n = h²·a·n(n+1)/2 exactly (internal forces of a translation vanish).
-  const auto s = run_file(source_dir() / "tests" / "app" / "data" / "rod_slide.json", "rod");
+  const auto s = run_file(source_dir() / "tests" / "app" / "data" / "rod_slide.json", "rod").summary;
   const double a = 9.81 * 0.5, h = s["dt"].get<double>();
   const auto& top = s["probes"]["top"];
   ASSERT_GE(top.size(), 10u);
@@ -55,7 +45,7 @@ TEST(RodSlide, AStripOnAFrictionlessRodTranslatesAlongItAtGSinTheta) {
 }
 
 TEST(Curtain, AGripperPullsTheCurtainAlongItsRodByFrictionAlone) {
-  const auto s = run_file(source_dir() / "scenes" / "curtain.json", "curtain_bai_liu");
+  const auto s = run_file(source_dir() / "scenes" / "curtain.json", "curtain_bai_liu").summary;
   expect_intact(s);
   const std::size_t last = s["probes"]["jaw"].size() - 1;
   // The wrist pulls 25 cm along the rod (x) from 0.8 s to 2.0 s.
@@ -80,7 +70,7 @@ TEST(Curtain, TheKinematicBaselineLetsTheCurtainSlipThroughTheJaws) {
   // repulsion with its per-step cap, so the squeeze does not hold the cloth: it slips through
   // the jaws during the pull (13 mm by 1.6 s) and, on a frictionless rod, runs on ahead.
   const auto s = run_file(source_dir() / "scenes" / "curtain.json", "curtain_kinematic",
-                          "--coupling kinematic --duration 1.6");
+                          "--coupling kinematic --duration 1.6").summary;
   expect_intact(s);
   EXPECT_GT(relative_motion(s, "gripped", "jaw", 0.72, 1.6), 5e-3);
 }

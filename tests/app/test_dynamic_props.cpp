@@ -9,11 +9,8 @@ using namespace dexcloth::test;
 namespace {
 
 nlohmann::json run_box(const std::string& name, const std::string& args = "") {
-  const auto out = fresh_dir(name);
-  const auto scene = source_dir() / "tests" / "app" / "data" / "box_on_cloth.json";
-  const auto r = run_cli("run " + scene.string() + " --quiet --out " + out.string() + " " + args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  return read_json(out / "summary.json");
+  return run_file(source_dir() / "tests" / "app" / "data" / "box_on_cloth.json", name, args)
+      .summary;
 }
 
 }  // namespace
