@@ -1,6 +1,7 @@
 #include "coupling/contact_forces.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -138,30 +139,90 @@ void filter_normal_forces(int cloth_meshes, double h, WorldData& data) {
   }
 }
 
+/// Time constant of the low-pass filter on the speed at which two bodies squeezing the cloth
+/// draw apart [s]; and the filtered speed above which they squeeze it no more [m/s].
+constexpr double kPartingFilterTime = 0.05;
+constexpr double kPartingSpeed = 0.02;
+
+/// Two bodies pressing one patch squeeze it only while they do not draw apart. A palm rising off
+/// a crumpled cloth on a table still pressed patches the table pressed too, and their squeezed
+/// vertices took the palm's normal velocity: the palm lifted the cloth a few centimetres with it.
+/// Each pair's speed toward each other (Σ over both of the surface velocity along the normal
+/// toward the cloth, at the groups that share their force) is low-passed over the steps the pair
+/// keeps squeezing: a force-controlled jaw's LCP impulses make it jitter at ±4 cm/s step to step
+/// around a closed grip.
+void release_parting_squeezes(int cloth_meshes, double h, WorldData& data) {
+  InterfaceScratch& s = data.interface;
+  const std::size_t patches = s.squeeze.size();
+  const std::size_t bodies = s.patch_force.size();
+  // Per body × patch: Σ fN·(surface velocity · normal), Σ fN, over the groups that took its force.
+  s.approach.assign(bodies * patches, Vec2::Zero());
+  for (const ContactGroup& g : s.groups) {
+    if (g.other_mesh < cloth_meshes || g.rigid_patch < 0) continue;
+    const std::size_t k = static_cast<std::size_t>(g.other_mesh - cloth_meshes) * patches +
+                          static_cast<std::size_t>(g.rigid_patch);
+    s.approach[k] += Vec2(g.normal_force * g.other_velocity.dot(g.normal), g.normal_force);
+  }
+  // Per pair of bodies: this step's closing speed, weighted by the squeeze of their patches.
+  s.pair_closing.assign(bodies * bodies, Vec2::Zero());
+  const auto speed = [&](int m, std::size_t p) {
+    const Vec2& a = s.approach[static_cast<std::size_t>(m) * patches + p];
+    return a.y() > 0.0 ? a.x() / a.y() : 0.0;
+  };
+  const auto pair = [&](std::size_t p) {
+    const auto [a, b] = s.squeeze_bodies[p];
+    return static_cast<std::size_t>(std::min(a, b)) * bodies + static_cast<std::size_t>(std::max(a, b));
+  };
+  for (std::size_t p = 0; p < patches; ++p)
+    if (s.squeeze[p] > 0.0) {
+      const auto [a, b] = s.squeeze_bodies[p];
+      s.pair_closing[pair(p)] += s.squeeze[p] * Vec2(speed(a, p) + speed(b, p), 1.0);
+    }
+  const double alpha = std::min(1.0, h / kPartingFilterTime);
+  s.closing_filtered.resize(bodies * bodies, 0.0);
+  s.closing_step.resize(bodies * bodies, -2);
+  for (std::size_t k = 0; k < bodies * bodies; ++k) {
+    const Vec2& c = s.pair_closing[k];
+    if (!(c.y() > 0.0)) continue;
+    const double raw = c.x() / c.y();
+    const double last = s.closing_step[k] == data.step - 1 ? s.closing_filtered[k] : 0.0;
+    s.closing_filtered[k] = last + alpha * (raw - last);
+    s.closing_step[k] = data.step;
+  }
+  for (std::size_t p = 0; p < patches; ++p)
+    if (s.squeeze[p] > 0.0 && s.closing_filtered[pair(p)] < -kPartingSpeed) s.squeeze[p] = 0.0;
+}
+
 /// Cloths stacked between two fingers (a patch pressed by two bodies): the squeeze passes
 /// through the middle layers, which touch no finger and would feel only their repulsion. Each
 /// contact of a middle-layer vertex (one in no patch) with a cloth vertex of the stack's patch
 /// takes the squeeze — the smaller of the two sides' resultants — shared among those vertices,
 /// when that is more than its repulsion; the group then names the patch (rigid_patch).
-void squeeze_middle_layers(int cloth_meshes, WorldData& data) {
+void squeeze_middle_layers(int cloth_meshes, double h, WorldData& data) {
   InterfaceScratch& s = data.interface;
   std::vector<ContactGroup>& groups = s.groups;
   const std::size_t patches = s.patch_force.empty() ? 0 : s.patch_force.front().size();
   s.squeeze.assign(patches, 0.0);
   s.squeeze_takers.assign(patches, 0);
+  s.squeeze_bodies.assign(patches, {-1, -1});
   for (std::size_t p = 0; p < patches; ++p) {
     double first = 0.0, second = 0.0;  // the two largest body resultants
-    for (const std::vector<double>& per_body : s.patch_force) {
-      const double f = per_body[p];
+    std::array<int, 2>& bodies = s.squeeze_bodies[p];
+    for (std::size_t m = 0; m < s.patch_force.size(); ++m) {
+      const double f = s.patch_force[m][p];
       if (f > first) {
         second = first;
+        bodies[1] = bodies[0];
         first = f;
+        bodies[0] = static_cast<int>(m);
       } else if (f > second) {
         second = f;
+        bodies[1] = static_cast<int>(m);
       }
     }
     s.squeeze[p] = second;
   }
+  release_parting_squeezes(cloth_meshes, h, data);
   const auto stack_patch = [&](const ContactGroup& g) {
     if (g.other_mesh >= cloth_meshes ||
         s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)] >= 0)
@@ -274,7 +335,7 @@ void assign_normal_forces(int cloth_meshes, double reach, double h, WorldData& d
       if (patch_index(c.other) == g.rigid_patch) n += c.f_n * c.n_W;
     if (n.norm() > 0.0) g.normal = n.dot(g.normal) >= 0.0 ? Vec3(n.normalized()) : Vec3(-n.normalized());
   }
-  squeeze_middle_layers(cloth_meshes, data);
+  squeeze_middle_layers(cloth_meshes, h, data);
   filter_normal_forces(cloth_meshes, h, data);
 }
 
