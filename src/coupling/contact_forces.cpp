@@ -147,37 +147,45 @@ constexpr double kPartingSpeed = 0.02;
 /// Two bodies pressing one patch squeeze it only while they do not draw apart. A palm rising off
 /// a crumpled cloth on a table still pressed patches the table pressed too, and their squeezed
 /// vertices took the palm's normal velocity: the palm lifted the cloth a few centimetres with it.
-/// Each pair's speed toward each other (Σ over both of the surface velocity along the normal
-/// toward the cloth, at the groups that share their force) is low-passed over the steps the pair
-/// keeps squeezing: a force-controlled jaw's LCP impulses make it jitter at ±4 cm/s step to step
-/// around a closed grip.
-void release_parting_squeezes(int cloth_meshes, double h, WorldData& data) {
+/// A pair's closing speed is measured at one point, the patch's force-weighted contact point, so
+/// that two pads turning together (a hand carrying a pinch round) do not part; it is low-passed
+/// over the steps the pair keeps squeezing, as a force-controlled jaw's LCP impulses make it
+/// jitter at ±4 cm/s step to step around a closed grip.
+void release_parting_squeezes(double h, WorldData& data) {
   InterfaceScratch& s = data.interface;
+  const RigidSide& rigid = data.rigid;
+  const rigid::RigidWorld& world = *rigid.world;
   const std::size_t patches = s.squeeze.size();
   const std::size_t bodies = s.patch_force.size();
-  // Per body × patch: Σ fN·(surface velocity · normal), Σ fN, over the groups that took its force.
-  s.approach.assign(bodies * patches, Vec2::Zero());
-  for (const ContactGroup& g : s.groups) {
-    if (g.other_mesh < cloth_meshes || g.rigid_patch < 0) continue;
-    const std::size_t k = static_cast<std::size_t>(g.other_mesh - cloth_meshes) * patches +
-                          static_cast<std::size_t>(g.rigid_patch);
-    s.approach[k] += Vec2(g.normal_force * g.other_velocity.dot(g.normal), g.normal_force);
-  }
-  // Per pair of bodies: this step's closing speed, weighted by the squeeze of their patches.
+  // Per pair of bodies: Σ squeeze·closing speed, Σ squeeze, over the patches they squeeze.
   s.pair_closing.assign(bodies * bodies, Vec2::Zero());
-  const auto speed = [&](int m, std::size_t p) {
-    const Vec2& a = s.approach[static_cast<std::size_t>(m) * patches + p];
-    return a.y() > 0.0 ? a.x() / a.y() : 0.0;
-  };
   const auto pair = [&](std::size_t p) {
     const auto [a, b] = s.squeeze_bodies[p];
     return static_cast<std::size_t>(std::min(a, b)) * bodies + static_cast<std::size_t>(std::max(a, b));
   };
-  for (std::size_t p = 0; p < patches; ++p)
-    if (s.squeeze[p] > 0.0) {
-      const auto [a, b] = s.squeeze_bodies[p];
-      s.pair_closing[pair(p)] += s.squeeze[p] * Vec2(speed(a, p) + speed(b, p), 1.0);
+  for (std::size_t p = 0; p < patches; ++p) {
+    if (!(s.squeeze[p] > 0.0)) continue;
+    const rigid::BodyId patch = world.patches().body(static_cast<int>(p));
+    Vec3 point = Vec3::Zero();
+    double force = 0.0;
+    std::array<Vec3, 2> normal{Vec3::Zero(), Vec3::Zero()};  // from the patch into each body
+    for (std::size_t k = 0; k < 2; ++k)
+      for (const rigid::ContactPoint& c : world.contacts(rigid.mesh_body[static_cast<std::size_t>(s.squeeze_bodies[p][k])]))
+        if (c.other == patch) {
+          point += c.f_n * c.p_W;
+          force += c.f_n;
+          normal[k] += c.f_n * c.n_W;
+        }
+    if (!(force > 0.0)) continue;
+    point /= force;
+    double closing = 0.0;  // Σ of each body's speed toward the patch at `point` [m/s]
+    for (std::size_t k = 0; k < 2; ++k) {
+      const rigid::BodyId b = rigid.mesh_body[static_cast<std::size_t>(s.squeeze_bodies[p][k])];
+      const Vec3 v = world.point_velocity_W(b, world.pose_W(b).inverse() * point);
+      if (normal[k].norm() > 0.0) closing -= v.dot(normal[k].normalized());
     }
+    s.pair_closing[pair(p)] += s.squeeze[p] * Vec2(closing, 1.0);
+  }
   const double alpha = std::min(1.0, h / kPartingFilterTime);
   s.closing_filtered.resize(bodies * bodies, 0.0);
   s.closing_step.resize(bodies * bodies, -2);
@@ -185,7 +193,10 @@ void release_parting_squeezes(int cloth_meshes, double h, WorldData& data) {
     const Vec2& c = s.pair_closing[k];
     if (!(c.y() > 0.0)) continue;
     const double raw = c.x() / c.y();
-    const double last = s.closing_step[k] == data.step - 1 ? s.closing_filtered[k] : 0.0;
+    // A pair's patches come and go between steps: its filter goes on across gaps shorter than
+    // its time constant.
+    const bool recent = static_cast<double>(data.step - s.closing_step[k]) * h <= kPartingFilterTime;
+    const double last = recent ? s.closing_filtered[k] : 0.0;
     s.closing_filtered[k] = last + alpha * (raw - last);
     s.closing_step[k] = data.step;
   }
@@ -222,7 +233,7 @@ void squeeze_middle_layers(int cloth_meshes, double h, WorldData& data) {
     }
     s.squeeze[p] = second;
   }
-  release_parting_squeezes(cloth_meshes, h, data);
+  release_parting_squeezes(h, data);
   const auto stack_patch = [&](const ContactGroup& g) {
     if (g.other_mesh >= cloth_meshes ||
         s.patch_of[static_cast<std::size_t>(g.cloth)][static_cast<std::size_t>(g.vertex)] >= 0)

@@ -51,7 +51,6 @@ struct InterfaceScratch {
   std::vector<double> squeeze;      ///< per pool patch: force through a stack of cloths [N]
   std::vector<int> squeeze_takers;  ///< per pool patch: middle-layer vertices sharing it
   std::vector<std::array<int, 2>> squeeze_bodies;  ///< per pool patch: its two pressing bodies
-  std::vector<Vec2> approach;  ///< per body × patch: Σ fN·(surface velocity · normal), Σ fN
   std::vector<Vec2> pair_closing;  ///< per body × body: Σ squeeze·closing speed, Σ squeeze
   std::vector<double> closing_filtered;  ///< per body × body: low-passed closing speed [m/s]
   std::vector<long> closing_step;        ///< per body × body: step it was set
