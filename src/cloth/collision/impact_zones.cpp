@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "cloth/collision/ccd.hpp"
 
@@ -12,6 +14,25 @@ namespace {
 
 Vec3 x0_of(const CollisionMesh& m, int v) { return m.x0.row(v).transpose(); }
 Vec3 x1_of(const CollisionMesh& m, int v) { return m.x1.row(v).transpose(); }
+
+/// Merges repeated messages into their first occurrence, counted: a zone hit again in every
+/// round reported the same fallback up to 40 times in one step.
+void merge_repeats(std::vector<std::string>& messages) {
+  std::vector<std::string> unique;
+  std::vector<int> count;
+  for (std::string& m : messages) {
+    const auto it = std::find(unique.begin(), unique.end(), m);
+    if (it != unique.end()) {
+      ++count[static_cast<std::size_t>(it - unique.begin())];
+    } else {
+      unique.push_back(std::move(m));
+      count.push_back(1);
+    }
+  }
+  for (std::size_t k = 0; k < unique.size(); ++k)
+    if (count[k] > 1) unique[k] += " (" + std::to_string(count[k]) + " rounds)";
+  messages = std::move(unique);
+}
 
 }  // namespace
 
@@ -351,6 +372,7 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
   }
   report.impacts = static_cast<int>(m_impacts.size());
   report.released = m_released;
+  merge_repeats(report.warnings);
   return report;
 }
 
