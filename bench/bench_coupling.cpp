@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/heap.hpp"
 #include "coupling/step.hpp"
 #include "scene/compile.hpp"
 #include "scene/load.hpp"
@@ -98,4 +99,11 @@ BENCHMARK_CAPTURE(BM_Coupled, curtain, std::string("curtain"), 1.2)
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  dexcloth::keep_heap_top();  // as `dexcloth run` does
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
