@@ -161,7 +161,8 @@ void release_parting_squeezes(double h, WorldData& data) {
   s.pair_closing.assign(bodies * bodies, Vec2::Zero());
   const auto pair = [&](std::size_t p) {
     const auto [a, b] = s.squeeze_bodies[p];
-    return static_cast<std::size_t>(std::min(a, b)) * bodies + static_cast<std::size_t>(std::max(a, b));
+    return static_cast<std::size_t>(std::min(a, b)) * bodies +
+           static_cast<std::size_t>(std::max(a, b));
   };
   for (std::size_t p = 0; p < patches; ++p) {
     if (!(s.squeeze[p] > 0.0)) continue;
@@ -169,8 +170,11 @@ void release_parting_squeezes(double h, WorldData& data) {
     Vec3 point = Vec3::Zero();
     double force = 0.0;
     std::array<Vec3, 2> normal{Vec3::Zero(), Vec3::Zero()};  // from the patch into each body
+    const auto body = [&](std::size_t k) {
+      return rigid.mesh_body[static_cast<std::size_t>(s.squeeze_bodies[p][k])];
+    };
     for (std::size_t k = 0; k < 2; ++k)
-      for (const rigid::ContactPoint& c : world.contacts(rigid.mesh_body[static_cast<std::size_t>(s.squeeze_bodies[p][k])]))
+      for (const rigid::ContactPoint& c : world.contacts(body(k)))
         if (c.other == patch) {
           point += c.f_n * c.p_W;
           force += c.f_n;
@@ -180,7 +184,7 @@ void release_parting_squeezes(double h, WorldData& data) {
     point /= force;
     double closing = 0.0;  // Σ of each body's speed toward the patch at `point` [m/s]
     for (std::size_t k = 0; k < 2; ++k) {
-      const rigid::BodyId b = rigid.mesh_body[static_cast<std::size_t>(s.squeeze_bodies[p][k])];
+      const rigid::BodyId b = body(k);
       const Vec3 v = world.point_velocity_W(b, world.pose_W(b).inverse() * point);
       if (normal[k].norm() > 0.0) closing -= v.dot(normal[k].normalized());
     }
@@ -195,7 +199,8 @@ void release_parting_squeezes(double h, WorldData& data) {
     const double raw = c.x() / c.y();
     // A pair's patches come and go between steps: its filter goes on across gaps shorter than
     // its time constant.
-    const bool recent = static_cast<double>(data.step - s.closing_step[k]) * h <= kPartingFilterTime;
+    const bool recent =
+        static_cast<double>(data.step - s.closing_step[k]) * h <= kPartingFilterTime;
     const double last = recent ? s.closing_filtered[k] : 0.0;
     s.closing_filtered[k] = last + alpha * (raw - last);
     s.closing_step[k] = data.step;

@@ -21,11 +21,11 @@ using namespace dexcloth::test;
 
 namespace {
 
-constexpr double kRadius = 0.03;     // cylinder [m]
-constexpr double kThickness = 0.005; // repulsion thickness (the scene default) [m]
-constexpr double kAxisHeight = 0.5;  // [m]
-constexpr double kWidth = 0.03;      // strip width, along the cylinder's axis y [m]
-constexpr double kSpacing = 0.005;   // vertex spacing along the strip [m]
+constexpr double kRadius = 0.03;      // cylinder [m]
+constexpr double kThickness = 0.005;  // repulsion thickness (the scene default) [m]
+constexpr double kAxisHeight = 0.5;   // [m]
+constexpr double kWidth = 0.03;       // strip width, along the cylinder's axis y [m]
+constexpr double kSpacing = 0.005;    // vertex spacing along the strip [m]
 constexpr double kMu = 0.3;
 
 /// Writes the draped strip: leg `left` [m] down the −x side, the half circle over the top, leg
@@ -51,11 +51,13 @@ void write_strip(const std::filesystem::path& path, double left, double right) {
       x = r;
       z = kAxisHeight - (s - left - arc);
     }
-    for (int j = 0; j < across; ++j) out << "v " << x << ' ' << kWidth * (j / (across - 1.0) - 0.5) << ' ' << z << '\n';
+    for (int j = 0; j < across; ++j)
+      out << "v " << x << ' ' << kWidth * (j / (across - 1.0) - 0.5) << ' ' << z << '\n';
   }
   for (int i = 0; i < along; ++i)
     for (int j = 0; j < across; ++j)
-      out << "vt " << length * i / (along - 1) << ' ' << kWidth * (j / (across - 1.0) - 0.5) << '\n';
+      out << "vt " << length * i / (along - 1) << ' ' << kWidth * (j / (across - 1.0) - 0.5)
+          << '\n';
   for (int i = 0; i + 1 < along; ++i)
     for (int j = 0; j + 1 < across; ++j) {
       const int a = i * across + j + 1, b = a + across, c = b + 1, d = a + 1;
@@ -68,7 +70,7 @@ void write_strip(const std::filesystem::path& path, double left, double right) {
 /// top of the cylinder moved from 0.2 s to 1 s [m] (the legs' ends also swing as the strip
 /// settles).
 double top_travel(const std::string& name, double left, double right,
-                        const std::string& coupling = "bai-liu") {
+                  const std::string& coupling = "bai-liu") {
   const std::filesystem::path dir = fresh_dir(name + "_scene");
   std::filesystem::create_directories(dir);
   write_strip(dir / "strip.obj", left, right);
@@ -84,10 +86,13 @@ double top_travel(const std::string& name, double left, double right,
       {"obstacles",
        {{{"name", "cylinder"},
          {"shape", {{"capsule", {{"radius", kRadius}, {"length", 0.1}}}}},
-         {"transform", {{"translation", {0.0, 0.0, kAxisHeight}}, {"rotation_deg", {90.0, 0.0, 0.0}}}},
+         {"transform",
+          {{"translation", {0.0, 0.0, kAxisHeight}}, {"rotation_deg", {90.0, 0.0, 0.0}}}},
          {"friction", kMu}}}},
       {"probes",
-       {{{"name", "top"}, {"cloth", "strip"}, {"near", {0.0, 0.0, kAxisHeight + kRadius + kThickness}}}}}};
+       {{{"name", "top"},
+         {"cloth", "strip"},
+         {"near", {0.0, 0.0, kAxisHeight + kRadius + kThickness}}}}}};
   std::ofstream(dir / "capstan.json") << scene.dump(2);
   const CliRun r = run_file(dir / "capstan.json", name);
   expect_intact(r.summary);

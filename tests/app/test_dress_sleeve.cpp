@@ -17,7 +17,8 @@ CliRun run(const std::string& name, const std::string& args = "") {
 /// Probe `name`'s coordinate `axis` (0 x, 1 y, 2 z) at the first sample at or after t [s].
 double coordinate(const nlohmann::json& s, const std::string& name, int axis, double t) {
   for (const auto& row : s["probes"][name])
-    if (row[0].get<double>() >= t - 1e-9) return row[static_cast<std::size_t>(axis) + 1].get<double>();
+    if (row[0].get<double>() >= t - 1e-9)
+      return row[static_cast<std::size_t>(axis) + 1].get<double>();
   ADD_FAILURE() << "no sample of " << name << " at " << t << " s";
   return 0.0;
 }
@@ -43,7 +44,8 @@ TEST(DressSleeve, FrictionlessJawsSlideAlongTheLoopAndLeaveTheSleeve) {
   const CliRun r = run("dress_sleeve_frictionless", "--set /bodies/0/friction=0");
   expect_intact(r.summary);
   EXPECT_GT(relative_motion(r.summary, "gripped", "jaw", 1.4, 3.4), 0.1);
-  EXPECT_LT(std::abs(coordinate(r.summary, "top", 0, 3.4) - coordinate(r.summary, "top", 0, 1.4)), 0.02);
+  EXPECT_LT(std::abs(coordinate(r.summary, "top", 0, 3.4) - coordinate(r.summary, "top", 0, 1.4)),
+            0.02);
 }
 
 TEST(DressSleeve, TheKinematicJawsCrushTheLoopThroughItself) {
