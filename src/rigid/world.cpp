@@ -158,7 +158,9 @@ int WorldImpl::register_skeleton(dd::SkeletonPtr skel, std::string file) {
   rec.pd_matrix.resize(n, n);
   rec.pd_rhs.resize(n);
   rec.pd_qdd.resize(n);
-  rec.pd_llt = Eigen::LLT<Eigen::MatrixXd>(n);
+  // Sized by a first factorisation, which also sets its status: Eigen's LLT leaves that
+  // uninitialised until then, and moving the record read it (UBSan: invalid enum load).
+  rec.pd_llt.compute(Eigen::MatrixXd::Identity(n, n));
   skeletons.push_back(std::move(rec));
   world->addSkeleton(skel);
   DEXCLOTH_DEMAND(world->getSkeleton(skeletons.back().name) == skel);
