@@ -67,21 +67,19 @@ double probe_distance(const nlohmann::json& a, const nlohmann::json& b) {
   return std::sqrt(sum);
 }
 
+dexcloth::Vec3 probe_at(const nlohmann::json& s, const std::string& probe, double t) {
+  const auto& rows = s["probes"][probe];
+  std::size_t k = 0;
+  while (k + 1 < rows.size() && rows[k][0].get<double>() < t - 1e-9) ++k;
+  return {rows[k][1].get<double>(), rows[k][2].get<double>(), rows[k][3].get<double>()};
+}
+
 double relative_motion(const nlohmann::json& s, const std::string& moving,
                        const std::string& reference, double t0, double t1) {
-  const auto& a = s["probes"][moving];
-  const auto& b = s["probes"][reference];
-  const auto offset = [&](double t) {
-    std::size_t k = 0;
-    while (k + 1 < a.size() && a[k][0].get<double>() < t - 1e-9) ++k;
-    std::array<double, 3> d{};
-    for (int i = 0; i < 3; ++i)
-      d[static_cast<std::size_t>(i)] = a[k][i + 1].get<double>() - b[k][i + 1].get<double>();
-    return d;
+  const auto offset = [&](double t) -> dexcloth::Vec3 {
+    return probe_at(s, moving, t) - probe_at(s, reference, t);
   };
-  const auto d0 = offset(t0), d1 = offset(t1);
-  return std::sqrt((d1[0] - d0[0]) * (d1[0] - d0[0]) + (d1[1] - d0[1]) * (d1[1] - d0[1]) +
-                   (d1[2] - d0[2]) * (d1[2] - d0[2]));
+  return (offset(t1) - offset(t0)).norm();
 }
 
 Carry carry(const nlohmann::json& s, const std::string& pinched, double release) {

@@ -43,6 +43,10 @@ nlohmann::json run_scene(const std::string& name, const std::string& args = "");
 /// Distance between two probe samples [t, x, y, z] [m].
 double probe_distance(const nlohmann::json& a, const nlohmann::json& b);
 
+/// Probe `probe`'s position at the first sample of summary `s` at or after t [s] (the last
+/// sample when t is past the end) [m].
+dexcloth::Vec3 probe_at(const nlohmann::json& s, const std::string& probe, double t);
+
 /// How far probe `moving` moved relative to probe `reference` (both recorded at the same
 /// frames) between the first frames at or after t0 and t1 [s] of summary `s` [m].
 double relative_motion(const nlohmann::json& s, const std::string& moving,

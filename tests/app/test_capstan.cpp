@@ -96,13 +96,7 @@ double top_travel(const std::string& name, double left, double right,
   std::ofstream(dir / "capstan.json") << scene.dump(2);
   const CliRun r = run_file(dir / "capstan.json", name);
   expect_intact(r.summary);
-  const auto& p = r.summary["probes"]["top"];
-  const auto at = [&](double t) {
-    std::size_t k = 0;
-    while (k + 1 < p.size() && p[k][0].get<double>() < t - 1e-9) ++k;
-    return p[k];
-  };
-  return probe_distance(at(0.2), at(1.0));
+  return (probe_at(r.summary, "top", 1.0) - probe_at(r.summary, "top", 0.2)).norm();
 }
 
 }  // namespace

@@ -14,15 +14,6 @@ CliRun run(const std::string& name, const std::string& args = "") {
   return run_file(source_dir() / "scenes" / "dress_sleeve.json", name, args);
 }
 
-/// Probe `name`'s coordinate `axis` (0 x, 1 y, 2 z) at the first sample at or after t [s].
-double coordinate(const nlohmann::json& s, const std::string& name, int axis, double t) {
-  for (const auto& row : s["probes"][name])
-    if (row[0].get<double>() >= t - 1e-9)
-      return row[static_cast<std::size_t>(axis) + 1].get<double>();
-  ADD_FAILURE() << "no sample of " << name << " at " << t << " s";
-  return 0.0;
-}
-
 }  // namespace
 
 TEST(DressSleeve, TheGripperPullsTheSleeveUpTheArmByFriction) {
@@ -34,8 +25,8 @@ TEST(DressSleeve, TheGripperPullsTheSleeveUpTheArmByFriction) {
   // The whole sleeve comes along: its top slides 14.4 cm of the 15 along the arm (its cloth
   // stretches and bunches a little against the arm's friction) and still rests on the arm (the
   // arm's top is at 17.5 cm, the repulsion keeps the cloth 5 mm off it).
-  EXPECT_GT(coordinate(r.summary, "top", 0, 3.4) - coordinate(r.summary, "top", 0, 1.4), 0.12);
-  EXPECT_GT(coordinate(r.summary, "top", 2, 3.4), 0.17);
+  EXPECT_GT(probe_at(r.summary, "top", 3.4)[0] - probe_at(r.summary, "top", 1.4)[0], 0.12);
+  EXPECT_GT(probe_at(r.summary, "top", 3.4)[2], 0.17);
 }
 
 TEST(DressSleeve, FrictionlessJawsSlideAlongTheLoopAndLeaveTheSleeve) {
@@ -44,7 +35,7 @@ TEST(DressSleeve, FrictionlessJawsSlideAlongTheLoopAndLeaveTheSleeve) {
   const CliRun r = run("dress_sleeve_frictionless", "--set /bodies/0/friction=0");
   expect_intact(r.summary);
   EXPECT_GT(relative_motion(r.summary, "gripped", "jaw", 1.4, 3.4), 0.1);
-  EXPECT_LT(std::abs(coordinate(r.summary, "top", 0, 3.4) - coordinate(r.summary, "top", 0, 1.4)),
+  EXPECT_LT(std::abs(probe_at(r.summary, "top", 3.4)[0] - probe_at(r.summary, "top", 1.4)[0]),
             0.02);
 }
 

@@ -12,18 +12,10 @@ using namespace dexcloth::test;
 
 namespace {
 
-/// Probe `p`'s sample at the first frame at or after t: {x, y, z}.
-std::array<double, 3> sample(const nlohmann::json& s, const std::string& p, double t) {
-  const auto& a = s["probes"][p];
-  std::size_t k = 0;
-  while (k + 1 < a.size() && a[k][0].get<double>() < t - 1e-9) ++k;
-  return {a[k][1].get<double>(), a[k][2].get<double>(), a[k][3].get<double>()};
-}
-
 /// The last sample time of the scene's 3.85 s [s].
 constexpr double kEnd = 3.84;
 
-double horizontal(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+double horizontal(const dexcloth::Vec3& a, const dexcloth::Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1]);
 }
 
@@ -45,14 +37,14 @@ TEST(FoldNapkin, TwoGrippersFoldTheNapkinInHalfByFrictionAlone) {
   // Held: from the handle's release (1.55 s) until the jaws open (2.6 s) the gripped vertex
   // moves with the jaw while the jaw travels 9 cm.
   EXPECT_LT(worst_slip(s, 1.6, 2.55), 2e-3);
-  const auto jaw0 = sample(s, "jaw", 1.6), jaw1 = sample(s, "jaw", 2.55);
+  const auto jaw0 = probe_at(s, "jaw", 1.6), jaw1 = probe_at(s, "jaw", 2.55);
   EXPECT_GT(std::hypot(jaw1[1] - jaw0[1], jaw1[2] - jaw0[2]), 0.04);
   // The far half lies where the carry left it: not dragged by the fold.
-  EXPECT_LT(horizontal(sample(s, "far_edge", kEnd), sample(s, "far_edge", 1.9)), 5e-3);
+  EXPECT_LT(horizontal(probe_at(s, "far_edge", kEnd), probe_at(s, "far_edge", 1.9)), 5e-3);
   // Folded in half: the near edge and corner lie on the far ones, one layer (the 5 mm
   // repulsion thickness, within 3 mm) above them.
   for (const auto& [top, bottom] : {std::pair{"edge", "far_edge"}, {"near_corner", "far_corner"}}) {
-    const auto a = sample(s, top, kEnd), b = sample(s, bottom, kEnd);
+    const auto a = probe_at(s, top, kEnd), b = probe_at(s, bottom, kEnd);
     EXPECT_LT(horizontal(a, b), 0.01) << top;
     EXPECT_NEAR(a[2] - b[2], 0.005, 0.003) << top;
   }
@@ -63,5 +55,5 @@ TEST(FoldNapkin, TheKinematicJawsCloseThroughTheFlapAndTheFoldFails) {
   // and drag the napkin off: the near edge ends 7 cm from the far one.
   const auto s = run_scene("fold_napkin", "--coupling kinematic");
   EXPECT_GT(s["intersections_max"].get<int>(), 0);
-  EXPECT_GT(horizontal(sample(s, "edge", kEnd), sample(s, "far_edge", kEnd)), 0.02);
+  EXPECT_GT(horizontal(probe_at(s, "edge", kEnd), probe_at(s, "far_edge", kEnd)), 0.02);
 }

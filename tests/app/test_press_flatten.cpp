@@ -37,7 +37,9 @@ TEST(PressFlatten, TheHandPressesTheCrumpledNapkinFlat) {
   // when squeezed vertices kept the thumb's normal velocity as it drew away from the table).
   const double pressed = heights_at(frames, 2.6).mean;
   for (const ClothFrame& f : frames)
-    if (f.t >= 2.6) EXPECT_LT(heights_at(frames, f.t).mean, pressed + 0.007) << "t = " << f.t;
+    if (f.t >= 2.6) {
+      EXPECT_LT(heights_at(frames, f.t).mean, pressed + 0.007) << "t = " << f.t;
+    }
   // Flat after the hand has gone: on average little more than one layer (measured 6 mm).
   EXPECT_LT(heights_at(frames, 3.6).mean, 0.009);
 }
