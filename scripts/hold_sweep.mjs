@@ -4,10 +4,12 @@
 // every wrist-driven hand's whole path shifted by up to ±0.5 mm and turned by up to ±0.2° about
 // the vertical) and reports, per run and in all, whether the cloth was carried. A run holds when every probe
 // named "pinched*" stays within 30 mm of both pad probes (thumb_tip, index_pad) from the last
-// handle's release on and rises more than 12 cm with the hand, with no intersection and no NaN.
+// handle's release on (or from --from seconds) and rises more than 12 cm (or --rise metres)
+// with the hand, with no intersection and no NaN.
 //
 //   node scripts/hold_sweep.mjs scenes/pinch_move.json [--runs 20] [--jobs 2] [--threads 1]
 //                [--seed 1] [--exe build/dexcloth] [--out out/sweep] [--set /ptr=value ...]
+//   node scripts/hold_sweep.mjs scenes/curtain_hand.json --from 0.8 --rise -1   (a sideways pull)
 // (--threads: each run's; the runs' results do not depend on it.)
 import { spawn } from "node:child_process";
 import { mkdirSync, readFileSync } from "node:fs";
@@ -22,7 +24,7 @@ const option = (name, fallback) => {
 };
 const scenePath = args.find((a, k) => !a.startsWith("--") && (k === 0 || !args[k - 1].startsWith("--")));
 if (!scenePath) {
-  console.error("usage: node scripts/hold_sweep.mjs <scene.json> [--runs N] [--jobs J] [--threads T] [--seed S] [--exe PATH] [--out DIR] [--set /ptr=value ...]");
+  console.error("usage: node scripts/hold_sweep.mjs <scene.json> [--runs N] [--jobs J] [--threads T] [--seed S] [--exe PATH] [--out DIR] [--from S] [--rise M] [--set /ptr=value ...]");
   process.exit(2);
 }
 const runs = Number(option("--runs", "20"));
@@ -35,7 +37,9 @@ const outRoot = resolve(option("--out", join(here, "..", "out", "sweep", name)))
 const extraSets = args.flatMap((a, k) => (a === "--set" ? ["--set", args[k + 1]] : []));
 
 const scene = JSON.parse(readFileSync(scenePath, "utf8"));
-const release = Math.max(...scene.cloths.flatMap((c) => (c.handles ?? []).map((h) => h.release ?? 0)));
+const release = Number(option("--from",
+  String(Math.max(...scene.cloths.flatMap((c) => (c.handles ?? []).map((h) => h.release ?? 0))))));
+const minimumRise = Number(option("--rise", "0.12"));
 const pinchedProbes = (scene.probes ?? []).map((p) => p.name).filter((n) => n.startsWith("pinched"));
 if (pinchedProbes.length === 0) {
   console.error(`${scenePath}: no probe named pinched*`);
@@ -103,7 +107,7 @@ function outcome(summary) {
     rise = Math.min(rise, s[s.length - 1][3] - zRelease);
   }
   const intact = summary.intersections_max === 0 && !summary.nan;
-  return { held: farthest < 0.03 && rise > 0.12 && intact, farthest, rise, intact,
+  return { held: farthest < 0.03 && rise > minimumRise && intact, farthest, rise, intact,
            warnings: summary.warnings_total, stepMs: summary.step_ms.median };
 }
 
