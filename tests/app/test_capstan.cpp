@@ -1,6 +1,10 @@
 /// Belt friction (the capstan equation): a strip hung over a fixed horizontal cylinder with legs
 /// of different lengths stays put iff the tension ratio of its legs, here their length ratio,
-/// is at most e^{μθ} for the wrapped angle θ = π. With μ = 0.3 the threshold is e^{0.3π} = 2.57.
+/// is at most e^{μθ} for the wrapped angle θ = π. With μ = 0.3 the threshold is e^{0.3π} = 2.57
+/// for a weightless wrap; the half circle's own weight, pressing it on the cylinder, raises it
+/// to 3.55 for a 7 cm short leg (the string equations integrated round the cylinder), so the
+/// sliding case below, at 3.43, should strictly hang: against this 12-slice cylinder the belt
+/// friction is a little weak (README).
 /// The strip starts in its draped shape (an OBJ written by the test: two vertical legs joined by
 /// a half circle one repulsion thickness off the cylinder, its rest shape the flat strip), so it
 /// is at rest at the start and only friction decides.

@@ -39,9 +39,12 @@ TEST(DressSleeve, FrictionlessJawsSlideAlongTheLoopAndLeaveTheSleeve) {
             0.02);
 }
 
-TEST(DressSleeve, TheKinematicJawsCrushTheLoopThroughItself) {
-  // Kinematic jaws close through the loop's folds (18 intersecting pairs measured).
+TEST(DressSleeve, TheKinematicJawsPullTheSleeveToo) {
+  // The kinematic jaws, whose capped repulsion friction is enough for this light sleeve, also
+  // pull it up the arm: over four starts shifted 0.5 mm or turned 0.5°, the top slid 14.7–16.1
+  // cm with the loop within 1–13 mm of the jaws; one of the four closed through the loop's folds
+  // (18 intersecting pairs), as the one run measured before did.
   const CliRun r = run("dress_sleeve_kinematic", "--coupling kinematic");
-  EXPECT_GT(r.summary["intersections_max"].get<int>(), 0);
   EXPECT_EQ(r.summary["nan"], false);
+  EXPECT_GT(probe_at(r.summary, "top", 3.4)[0] - probe_at(r.summary, "top", 1.4)[0], 0.1);
 }

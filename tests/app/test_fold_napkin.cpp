@@ -50,10 +50,13 @@ TEST(FoldNapkin, TwoGrippersFoldTheNapkinInHalfByFrictionAlone) {
   }
 }
 
-TEST(FoldNapkin, TheKinematicJawsCloseThroughTheFlapAndTheFoldFails) {
-  // With the jaws as kinematic obstacles they close through the flap (10 intersecting pairs)
-  // and drag the napkin off: the near edge ends 7 cm from the far one.
+TEST(FoldNapkin, TheKinematicJawsCarryTheFlapTooButTheFoldIsLeftToChance) {
+  // With the jaws as kinematic obstacles the repulsion's capped friction also carries the light
+  // flap (slip up to 4.7 mm over four starts shifted 0.5 mm or turned 0.5°, against 0.2 mm with
+  // the coupling). Where the flap lands is chaotic: one of the four folded (0.9 cm) and three
+  // dragged the napkin 5–13 cm off; an earlier build's arithmetic had the jaws close through
+  // the flap (10 intersecting pairs). Only the carry is asserted.
   const auto s = run_scene("fold_napkin", "--coupling kinematic");
-  EXPECT_GT(s["intersections_max"].get<int>(), 0);
-  EXPECT_GT(horizontal(probe_at(s, "edge", kEnd), probe_at(s, "far_edge", kEnd)), 0.02);
+  EXPECT_FALSE(s["nan"].get<bool>());
+  EXPECT_LT(worst_slip(s, 1.6, 2.55), 0.01);
 }

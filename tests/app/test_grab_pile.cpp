@@ -23,25 +23,29 @@ Pile run(const std::string& name, const std::string& args = "") {
 TEST(GrabPile, TheGripperPicksTheTopNapkinOffThePile) {
   const Pile p = run("grab_pile");
   expect_intact(p.summary);
-  // A pile before the grab: the top napkin lies crumpled on the bottom one.
-  EXPECT_LT(heights_at(p.top, 2.0).max, 0.06);
-  // Lifted whole (its lowest point 10 cm up) and held from the end of the lift to the end:
-  // its mean height moves less than 5 mm (measured 1 mm).
-  const Heights lifted = heights_at(p.top, 3.1), end = heights_at(p.top, 3.6);
-  EXPECT_GT(end.min, 0.08);
-  EXPECT_NEAR(end.mean, lifted.mean, 5e-3);
-  // The bottom napkin stays on the table (one layer lies at 5 mm). The top one drags part of it
-  // up a few centimetres as it leaves, and it falls back rumpled, more or less at random:
-  // measured max 1.3–3.7 cm, mean 5–11 mm.
-  EXPECT_LT(heights_at(p.bottom, 3.6).max, 0.05);
-  EXPECT_LT(heights_at(p.bottom, 3.6).mean, 0.015);
+  // A pile before the grab: both napkins crumpled on the table, the top one on the bottom one.
+  for (const auto* napkin : {&p.bottom, &p.top}) {
+    EXPECT_LT(heights_at(*napkin, 2.0).min, 0.005);
+    EXPECT_LT(heights_at(*napkin, 2.0).max, 0.1);
+  }
+  // The top napkin comes up whole and stays in the jaws: lowest point above 5 cm, mean above
+  // 10 cm at the end. The pile's shape is chaotic (a last-bit change of the arithmetic, such as
+  // another CPU's BLAS kernels, makes another pile): over five piles (the top napkin turned
+  // 19.5, 20 or 20.5° or shifted 0.5 mm) it came up every time (lowest point 5.6–15 cm, mean
+  // 13–17 cm), in three leaving the bottom one on the table (or most of it) and in two with
+  // the bottom one caught in its folds (README). Which comes along is therefore not asserted.
+  const Heights end = heights_at(p.top, 3.6);
+  EXPECT_GT(end.min, 0.05);
+  EXPECT_GT(end.mean, 0.1);
 }
 
 TEST(GrabPile, TheKinematicJawsCrushThePileAndLiftBothNapkins) {
-  // Kinematic jaws push the cloth through itself where they squeeze the pile, so the bottom
-  // napkin, caught in the top one, comes up with it.
+  // Kinematic jaws push the cloth through itself where they squeeze the pile (240–384
+  // intersecting pairs over four piles), so the bottom napkin, caught in the top one, comes up
+  // with it.
   const Pile p = run("grab_pile_kinematic", "--coupling kinematic --duration 3.2");
   EXPECT_FALSE(p.summary["nan"].get<bool>());
+  EXPECT_GT(p.summary["intersections_max"].get<int>(), 0);
   EXPECT_GT(heights_at(p.top, 3.2).mean, 0.1);
   EXPECT_GT(heights_at(p.bottom, 3.2).mean, 0.1);
 }
