@@ -38,7 +38,8 @@ TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   // Not asserted: what the napkin does as the hand rises, which is wrong. Over the same six
   // starts it is left flat in none: folds caught by the thumb and fingers are carried up with
   // the hand (up to 14 cm; mean 1.4–5.7 cm at the end; up to 140 intersecting pairs), and in
-  // one the napkin slips through the table: README, "What it does not do yet".
+  // one the napkin, squeezed under the still palm, shoots sideways off the table: README, "What
+  // it does not do yet".
 }
 
 TEST(PressFlatten, TheKinematicHandLeavesAHeap) {
