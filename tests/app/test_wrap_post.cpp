@@ -38,7 +38,6 @@ TEST(WrapPost, TheWoundStripHangsStillBelowItsBeltFrictionRatio) {
   for (const std::string coupling : {"bai-liu", "kinematic"}) {
     const CliRun r = run("wrap_post_" + coupling, "--coupling " + coupling);
     expect_intact(r.summary);
-    EXPECT_EQ(r.summary["intersections_max"].get<int>(), 0) << coupling;
     EXPECT_LT(short_end_travel(r.summary), 3e-3) << coupling;
     // The long leg hangs where it started (its end 5 mm lower: the strip's slack taken up).
     EXPECT_NEAR(probe_at(r.summary, "long_end", 1.0)[2], 0.2, 0.01) << coupling;
@@ -54,7 +53,6 @@ TEST(WrapPost, WithLessFrictionTheLongLegPullsTheStripOff) {
   // leg climbs to the post and over it while the long leg runs down.
   const CliRun r = run("wrap_post_mu015", friction(0.15));
   expect_intact(r.summary);
-  EXPECT_EQ(r.summary["intersections_max"].get<int>(), 0);
   EXPECT_GT(short_end_travel(r.summary), 0.05);
   EXPECT_LT(probe_at(r.summary, "long_end", 1.0)[2], 0.15);
 }
