@@ -111,6 +111,54 @@ void solve_general(std::span<const FrictionContact> contacts, double a, const Ma
   r.which = FrictionCase::general;
 }
 
+/// Refines a dual answer (r.force) by accelerated projected gradient on the dual, FISTA with
+/// adaptive restart: maximise −‖Σf‖²/(2a) − Σ f_i·u_i over f_i in the disk of radius c_i in
+/// plane i, whose gradient is −w_i, the next slip. Block Gauss–Seidel crawls where the planes are
+/// a few degrees apart and the cones far from full (a pinch between pads that are not parallel:
+/// large squeezing forces nearly cancel), and the 3-D Newton stalls at the kinks nearby; this
+/// converges there. Stops once `good` accepts the answer (checked every 32 iterations).
+template <class Accept>
+void refine_dual(std::span<const FrictionContact> contacts, double a, const Mat3* P,
+                 const double* c, Accept good, FrictionResult& r) {
+  const int m = static_cast<int>(contacts.size());
+  std::array<Vec3, kMaxVertexContacts> f{}, previous{}, y{};
+  const auto project = [&](int i, const Vec3& g) {
+    const Vec3 t = P[i] * g;
+    const double norm = t.norm();
+    return norm > c[i] ? Vec3(t * (c[i] / norm)) : t;
+  };
+  for (int i = 0; i < m; ++i) y[i] = f[i] = project(i, r.force[static_cast<std::size_t>(i)]);
+  const double step = a / m;  // 1/L: the dual's Hessian is (1/a)·11ᵀ on the planes
+  double t = 1.0;
+  for (int iter = 1; iter <= 20000; ++iter) {
+    Vec3 total = Vec3::Zero();
+    for (int i = 0; i < m; ++i) total += y[i];
+    const Vec3 dv = total / a;
+    previous = f;
+    for (int i = 0; i < m; ++i) {
+      const Vec3 slip = P[i] * (contacts[static_cast<std::size_t>(i)].relative_velocity + dv);
+      f[i] = c[i] > 0.0 ? project(i, y[i] - step * slip) : Vec3::Zero();
+    }
+    // Restart when the momentum points uphill (O'Donoghue & Candès' gradient test).
+    double uphill = 0.0;
+    for (int i = 0; i < m; ++i) uphill += (y[i] - f[i]).dot(f[i] - previous[i]);
+    const double t_next = uphill > 0.0 ? 1.0 : 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * t * t));
+    for (int i = 0; i < m; ++i)
+      y[i] = uphill > 0.0 ? f[i] : Vec3(f[i] + ((t - 1.0) / t_next) * (f[i] - previous[i]));
+    t = t_next;
+    if (iter % 32 != 0 && iter != 20000) continue;
+    FrictionResult candidate = r;
+    total = Vec3::Zero();
+    for (int i = 0; i < m; ++i) {
+      candidate.force[static_cast<std::size_t>(i)] = f[i];
+      total += f[i];
+    }
+    candidate.delta_v = total / a;
+    r = candidate;
+    if (good(r)) break;
+  }
+}
+
 /// Non-parallel planes, candidate "static at k": Δv on the line P_k(u_k + Δv) = 0, i.e.
 /// Δv = −P_k·u_k + t·n_k, with t minimising the convex ½a‖Δv‖² + Σ_{j≠k} c_j‖P_j(u_j + Δv)‖
 /// (its derivative is increasing: bisection). Contacts that end stuck with k share the rest of
@@ -276,28 +324,31 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
   p.speed_eps = 1e-14 + 1e-12 * max_speed;
   if (capacity <= 0.0) return r;  // no friction: fT = 0
 
+  // Each contact's plane (the common one for parallel planes), and the static candidates in the
+  // order of the paper's heuristic μ‖fN‖ − m‖v_r‖/h (eq. 7), largest margin first.
+  std::array<Mat3, kMaxVertexContacts> P;
+  std::array<int, kMaxVertexContacts> order{};
+  std::array<double, kMaxVertexContacts> margin{};
+  for (int i = 0; i < p.count; ++i) {
+    P[i] = parallel ? p.P : tangent_projector(contacts[i].normal);
+    margin[i] = p.c[i] - p.a * (P[i] * contacts[i].relative_velocity).norm();
+    int j = i;  // insertion sort (M is tiny)
+    for (; j > 0 && margin[order[j - 1]] < margin[i]; --j) order[j] = order[j - 1];
+    order[j] = i;
+  }
+  const double scale = force_scale(p);
+  const auto violation = [&](const FrictionResult& candidate) {
+    return friction_violation(contacts, mass, h, candidate, coplanar_sin);
+  };
+  const auto passes = [&](const FrictionResult& candidate) {
+    return violation(candidate) <= 1e-9 * scale;
+  };
+  bool found = false;
   if (!parallel) {
-    // Candidates in 3-D, as for parallel planes: static at k by the paper's heuristic, then all
-    // dynamic from the block Gauss–Seidel answer, each checked; else that answer.
-    std::array<Mat3, kMaxVertexContacts> P;
-    std::array<int, kMaxVertexContacts> order{};
-    std::array<double, kMaxVertexContacts> margin{};
-    for (int i = 0; i < p.count; ++i) {
-      P[static_cast<std::size_t>(i)] =
-          tangent_projector(contacts[static_cast<std::size_t>(i)].normal);
-      margin[i] = p.c[i] - p.a * (P[static_cast<std::size_t>(i)] *
-                                  contacts[static_cast<std::size_t>(i)].relative_velocity)
-                                     .norm();
-      int j = i;
-      for (; j > 0 && margin[order[j - 1]] < margin[i]; --j) order[j] = order[j - 1];
-      order[j] = i;
-    }
+    // Candidates in 3-D, as for parallel planes: the block Gauss–Seidel answer, static at k,
+    // then all dynamic from that answer, each checked.
     solve_general(contacts, p.a, nullptr, r);
-    const double scale = force_scale(p);
-    const auto passes = [&](const FrictionResult& candidate) {
-      return friction_violation(contacts, mass, h, candidate, coplanar_sin) <= 1e-9 * scale;
-    };
-    bool found = passes(r);
+    found = passes(r);
     for (int k = 0; k < p.count && !found; ++k) {
       if (p.c[order[k]] <= 0.0) continue;
       FrictionResult candidate;
@@ -312,21 +363,13 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
     if (!found &&
         try_general_dynamic(contacts, p.a, p.c.data(), P.data(), p.speed_eps, r.delta_v,
                             candidate) &&
-        passes(candidate))
+        passes(candidate)) {
       r = candidate;
+      found = true;
+    }
     r.which = FrictionCase::general;
   } else {
-    // Static candidates, most likely first by the paper's heuristic μ‖fN‖ − m‖v_r‖/h (eq. 7).
-    std::array<int, kMaxVertexContacts> order{};
-    std::array<double, kMaxVertexContacts> margin{};
-    for (int i = 0; i < p.count; ++i) {
-      margin[i] = p.c[i] - p.a * p.u[i].norm();
-      // Insertion sort, largest margin first (M is tiny).
-      int j = i;
-      for (; j > 0 && margin[order[j - 1]] < margin[i]; --j) order[j] = order[j - 1];
-      order[j] = i;
-    }
-    bool found = false;
+    // Static candidates (exact by construction), then all dynamic, checked.
     for (int k = 0; k < p.count && !found; ++k) {
       FrictionResult candidate;
       if (try_static_at(p, order[k], candidate)) {
@@ -334,14 +377,35 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
         found = true;
       }
     }
-    if (!found) {
-      FrictionResult candidate;
-      if (try_all_dynamic(p, contacts, candidate)) {
-        r = candidate;
-        found = true;
-      }
+    FrictionResult candidate;
+    if (!found && try_all_dynamic(p, contacts, candidate) && passes(candidate)) {
+      r = candidate;
+      found = true;
     }
     if (!found) solve_general(contacts, p.a, &p.P, r);
+  }
+  if (!found) {
+    // No candidate passed: refine the dual answer, let the 3-D Newton polish its Δv, keep the
+    // better of the two. The contacts left not sliding (to the check's tolerance) stick.
+    refine_dual(contacts, p.a, P.data(), p.c.data(), passes, r);
+    FrictionResult polished;
+    if (try_general_dynamic(contacts, p.a, p.c.data(), P.data(), p.speed_eps, r.delta_v,
+                            polished) &&
+        violation(polished) < violation(r))
+      r = polished;
+    r.which = parallel ? FrictionCase::all_dynamic : FrictionCase::general;
+    r.anchor = -1;
+    double held = 0.0;
+    for (int i = 0; i < p.count; ++i) {
+      const double slip = (P[i] * (contacts[i].relative_velocity + r.delta_v)).norm();
+      r.sticking[i] = p.c[i] > 0.0 && p.a * slip <= 1e-9 * scale;
+      // With parallel planes the vertex moving with a contact is "static at" it.
+      if (parallel && r.sticking[i] && p.c[i] > held) {
+        held = p.c[i];
+        r.which = FrictionCase::static_at;
+        r.anchor = i;
+      }
+    }
   }
   r.violation = friction_violation(contacts, mass, h, r, coplanar_sin) / force_scale(p);
   r.ok = r.violation <= 1e-9;
