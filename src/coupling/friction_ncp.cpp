@@ -147,14 +147,12 @@ void refine_dual(std::span<const FrictionContact> contacts, double a, const Mat3
       y[i] = uphill > 0.0 ? f[i] : Vec3(f[i] + ((t - 1.0) / t_next) * (f[i] - previous[i]));
     t = t_next;
     if (iter % 32 != 0 && iter != 20000) continue;
-    FrictionResult candidate = r;
     total = Vec3::Zero();
     for (int i = 0; i < m; ++i) {
-      candidate.force[static_cast<std::size_t>(i)] = f[i];
+      r.force[static_cast<std::size_t>(i)] = f[i];
       total += f[i];
     }
-    candidate.delta_v = total / a;
-    r = candidate;
+    r.delta_v = total / a;
     if (good(r)) break;
   }
 }

@@ -54,8 +54,10 @@ inline constexpr double kParallelSin = 1e-6;
 /// μ‖fN‖ − m‖v_r‖/h, then "all dynamic" (Newton on the smooth convex function); each candidate is
 /// checked against the cone and complementarity before it is taken. Other configurations try the
 /// same candidates in 3-D ("static at k": Δv on the line that stops contact k, placed along n_k
-/// by a 1-D minimisation; "all dynamic": Newton), after block Gauss–Seidel on the dual, whose
-/// answer stays when no candidate passes the check.
+/// by a 1-D minimisation; "all dynamic": Newton), after block Gauss–Seidel on the dual. When no
+/// candidate passes the check, either way, the Gauss–Seidel answer is refined by accelerated
+/// projected gradient on the dual and its Δv polished by the 3-D Newton; the better answer stays,
+/// and `ok` says whether it passes.
 FrictionResult solve_friction(std::span<const FrictionContact> contacts, double mass, double h,
                               double coplanar_sin = 0.0);
 

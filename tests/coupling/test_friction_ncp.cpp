@@ -278,9 +278,8 @@ TEST(FrictionNcp, SqueezedBetweenPadsAFewDegreesApartIsSolvedExactly) {
       {{Vec3(0.10583225292799206, -0.98575724226078199, -0.13069886598820646),
         0.0016876870844559167, 0.5,
         Vec3(-0.17920937535652426, 0.15167930434403279, -0.48100381275043563)},
-       {Vec3(0.11673220295972386, -0.9883639651293179, 0.097520588728853774),
-        0.0046857567028339925, 0.5,
-        Vec3(-0.17924254459022987, 0.15183633199291982, -0.48101106434805752)},
+       {Vec3(0.11673220295972386, -0.9883639651293179, 0.097520588728853774), 0.0046857567028339925,
+        0.5, Vec3(-0.17924254459022987, 0.15183633199291982, -0.48101106434805752)},
        {Vec3(-0.11389296440230345, 0.98834975257100333, -0.10096117695674876),
         0.0058000741688525575, 0.5,
         Vec3(-0.17796420145408121, 0.15651478363531973, -0.47872385921882404)},
@@ -339,10 +338,11 @@ TEST(FrictionNcp, PinchLikeSqueezesAreAllSolved) {
       const bool fold = i >= 2 && pos(rng) < 0.5;
       const double tilt = (fold ? 20.0 + 70.0 * pos(rng) : 15.0 * pos(rng)) * M_PI / 180.0;
       const double turn = 2.0 * M_PI * pos(rng);
-      const Vec3 n(std::sin(tilt) * std::cos(turn), std::cos(tilt), std::sin(tilt) * std::sin(turn));
+      const Vec3 n(std::sin(tilt) * std::cos(turn), std::cos(tilt),
+                   std::sin(tilt) * std::sin(turn));
       const double capacity = fold ? 1e-5 * pos(rng) : 3e-3 * (0.1 + pos(rng));
-      const Vec3 v = body + 1e-3 * std::pow(10.0, 2.0 * pos(rng) - 1.0) *
-                                Vec3(u(rng), u(rng), u(rng));
+      const Vec3 v =
+          body + 1e-3 * std::pow(10.0, 2.0 * pos(rng) - 1.0) * Vec3(u(rng), u(rng), u(rng));
       c.push_back(contact(i % 2 ? Vec3(-n) : n, capacity / 0.5, 0.5, v));
     }
     const FrictionResult r = solve_friction(c, mass, kH, coplanar);
