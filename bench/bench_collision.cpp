@@ -23,15 +23,16 @@ constexpr double kDt = 5e-3;         // step [s]
 constexpr double kThickness = 5e-3;  // repulsion thickness [m]
 constexpr double kRadius = 0.25;     // sphere radius [m]
 
-// Sheet of n × n quads over 1 m × 1 m centred on the z axis at height z, 0.1 g per vertex.
-CollisionMesh make_sheet(int n, double z) {
+// Sheet of n × n quads over size × size [m] centred on the z axis at height z, 0.1 g per vertex,
+// its rest shape flat as given (so the candidates leave out its rest neighbours, as in a scene).
+CollisionMesh make_sheet(int n, double z, double size) {
   CollisionMesh m;
   const int nv = (n + 1) * (n + 1);
   m.x0.resize(nv, 3);
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i)
-      m.x0.row(j * (n + 1) + i) << -0.5 + static_cast<double>(i) / n,
-          -0.5 + static_cast<double>(j) / n, z;
+      m.x0.row(j * (n + 1) + i) << size * (-0.5 + static_cast<double>(i) / n),
+          size * (-0.5 + static_cast<double>(j) / n), z;
   m.faces.resize(2 * n * n, 3);
   int f = 0;
   for (int j = 0; j < n; ++j) {
@@ -42,6 +43,7 @@ CollisionMesh make_sheet(int n, double z) {
     }
   }
   m.x1 = m.x0;
+  m.rest = m.x0;
   m.mass = Eigen::VectorXd::Constant(nv, 1e-4);
   m.frozen.assign(static_cast<std::size_t>(nv), 0);
   m.friction = 0.4;
@@ -115,7 +117,8 @@ void drape(CollisionMesh& sheet) {
 void BM_SheetOnSphere(benchmark::State& bench) {
   const int n = static_cast<int>(bench.range(0));
   const bool resting = bench.range(1) != 0;
-  CollisionMesh sheet = make_sheet(n, kRadius + 0.02);
+  const double size = 1e-3 * static_cast<double>(bench.range(2));
+  CollisionMesh sheet = make_sheet(n, kRadius + 0.02, size);
   if (resting) drape(sheet);
   CollisionMesh sphere = make_sphere(16, 8);
   const std::vector<Mat2> dm_inv = rest_shapes(sheet);
@@ -157,6 +160,8 @@ void BM_SheetOnSphere(benchmark::State& bench) {
   const auto per_step = benchmark::Counter::kAvgIterations;
   bench.counters["triangles"] = static_cast<double>(sheet.faces.rows());
   bench.counters["contacts"] = static_cast<double>(contacts.contacts.size());
+  bench.counters["vf_pairs"] = static_cast<double>(contacts.candidates.vertex_face().size());
+  bench.counters["ee_pairs"] = static_cast<double>(contacts.candidates.edge_edge().size());
   bench.counters["proximity_ms"] = benchmark::Counter(t_contacts, per_step);
   bench.counters["strain_ms"] = benchmark::Counter(t_strain, per_step);
   bench.counters["zones_ms"] = benchmark::Counter(t_zones, per_step);
@@ -165,10 +170,14 @@ void BM_SheetOnSphere(benchmark::State& bench) {
 
 }  // namespace
 
-// Args: quads per side (2·n² triangles), resting (1) or falling (0).
+// Args: quads per side (2·n² triangles), resting (1) or falling (0), sheet size [mm]: 1 m
+// (edges of 31–7.8 mm, longer than the 5 mm thickness), or 0.3 m at n = 64, pinch_move's sheet
+// (4.8 mm edges, under the thickness: every face has dozens of rest neighbours in reach).
 BENCHMARK(BM_SheetOnSphere)
-    ->ArgsProduct({{32, 64, 128}, {0, 1}})
-    ->ArgNames({"n", "resting"})
+    ->ArgsProduct({{32, 64, 128}, {0, 1}, {1000}})
+    ->Args({64, 0, 300})
+    ->Args({64, 1, 300})
+    ->ArgNames({"n", "resting", "size_mm"})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0);
 
