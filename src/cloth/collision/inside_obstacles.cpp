@@ -1,0 +1,99 @@
+#include "cloth/collision/inside_obstacles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+#include "cloth/collision/closest_points.hpp"
+
+namespace dexcloth::collision {
+
+double winding_number(const Points& x, const Triangles& faces, const Vec3& p) {
+  // Signed solid angle of each triangle seen from p (Van Oosterom & Strackee 1983).
+  double total = 0.0;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Vec3 a = x.row(faces(f, 0)).transpose() - p;
+    const Vec3 b = x.row(faces(f, 1)).transpose() - p;
+    const Vec3 c = x.row(faces(f, 2)).transpose() - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * std::numbers::pi);
+}
+
+namespace {
+
+struct SurfacePoint {
+  Vec3 point{Vec3::Zero()};
+  Vec3 normal{Vec3::UnitZ()};  // outward normal of the closest face
+  double distance{std::numeric_limits<double>::infinity()};
+};
+
+SurfacePoint closest_surface_point(const Points& x, const Triangles& faces, const Vec3& p) {
+  SurfacePoint best;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Vec3 a = x.row(faces(f, 0)).transpose(), b = x.row(faces(f, 1)).transpose(),
+               c = x.row(faces(f, 2)).transpose();
+    const Vec3 n = (b - a).cross(c - a);
+    if (n.squaredNorm() == 0.0) continue;  // degenerate: no side to push out to
+    const Vec3 w = closest_point_triangle(p, a, b, c);
+    const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
+    const double d = (p - q).norm();
+    if (d < best.distance) best = {q, n.normalized(), d};
+  }
+  return best;
+}
+
+}  // namespace
+
+bool closed_and_oriented(const Triangles& faces) {
+  // Each directed edge once, and its reverse present: every edge shared by two faces that
+  // traverse it in opposite directions.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(static_cast<std::size_t>(3 * faces.rows()));
+  const auto key = [](int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+           static_cast<std::uint32_t>(b);
+  };
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edges.push_back(key(faces(f, k), faces(f, (k + 1) % 3)));
+  std::sort(edges.begin(), edges.end());
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
+  for (const std::uint64_t e : edges) {
+    const auto a = static_cast<int>(e >> 32), b = static_cast<int>(e & 0xffffffffu);
+    if (!std::binary_search(edges.begin(), edges.end(), key(b, a))) return false;
+  }
+  return !edges.empty();
+}
+
+InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, double offset) {
+  InsideReport report;
+  for (const CollisionMesh* obstacle : meshes) {
+    // Only closed bodies have an inside (an open mesh, a cup, would claim its hollow).
+    if (!obstacle->obstacle || !closed_and_oriented(obstacle->faces)) continue;
+    const Points& ox = obstacle->x1;
+    const Vec3 lo = ox.colwise().minCoeff().transpose(), hi = ox.colwise().maxCoeff().transpose();
+    for (CollisionMesh* cloth : meshes) {
+      if (cloth->obstacle) continue;
+      for (Eigen::Index v = 0; v < cloth->x1.rows(); ++v) {
+        if (is_fixed(*cloth, static_cast<int>(v)) && !held_by_friction(*cloth, static_cast<int>(v)))
+          continue;
+        const Vec3 p = cloth->x1.row(v).transpose();
+        if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+        if (winding_number(ox, obstacle->faces, p) <= 0.5) continue;
+        const SurfacePoint s = closest_surface_point(ox, obstacle->faces, p);
+        if (!std::isfinite(s.distance)) continue;
+        cloth->x1.row(v) = (s.point + offset * s.normal).transpose();
+        ++report.vertices;
+        report.depth = std::max(report.depth, s.distance);
+      }
+    }
+  }
+  return report;
+}
+
+}  // namespace dexcloth::collision

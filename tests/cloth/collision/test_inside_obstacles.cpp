@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include "cloth/collision/inside_obstacles.hpp"
+#include "mesh_builders.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::collision;
+using namespace dexcloth::collision::testing;
+
+TEST(InsideObstacles, WindingNumberIsOneInsideAClosedMeshAndZeroOutside) {
+  const CollisionMesh box = make_box(Vec3(-0.1, -0.2, -0.05), Vec3(0.1, 0.2, 0.05));
+  EXPECT_NEAR(winding_number(box.x0, box.faces, Vec3(0.0, 0.0, 0.0)), 1.0, 1e-12);
+  EXPECT_NEAR(winding_number(box.x0, box.faces, Vec3(0.099, 0.19, -0.049)), 1.0, 1e-9);
+  EXPECT_NEAR(winding_number(box.x0, box.faces, Vec3(0.0, 0.0, 0.051)), 0.0, 1e-9);
+  EXPECT_NEAR(winding_number(box.x0, box.faces, Vec3(0.3, -0.5, 0.2)), 0.0, 1e-12);
+  const CollisionMesh sphere = make_sphere(Vec3(0.3, 0.0, 0.1), 0.05, 8, 16);
+  EXPECT_NEAR(winding_number(sphere.x0, sphere.faces, Vec3(0.31, 0.01, 0.09)), 1.0, 1e-9);
+  EXPECT_NEAR(winding_number(sphere.x0, sphere.faces, Vec3(0.3, 0.0, 0.16)), 0.0, 1e-9);
+  // Inside-out (faces turned inward), the inside counts −1: not "inside" for the recovery.
+  CollisionMesh flipped = box;
+  flipped.faces.col(1).swap(flipped.faces.col(2));
+  EXPECT_NEAR(winding_number(flipped.x0, flipped.faces, Vec3::Zero()), -1.0, 1e-12);
+}
+
+TEST(InsideObstacles, AVertexInsideABodyGoesToTheNearestFaceTheOthersStay) {
+  // A 2 × 2-quad sheet at z = 0.04 (columns at x = −0.05, 0.05, 0.15) whose first column lies
+  // inside a box (x < 0, z from −0.05 to 0.05), 10 mm under its top face and 50 mm or more
+  // from its other faces.
+  CollisionMesh sheet = make_sheet(2, 2, 0.2, 0.2, Vec3(-0.05, -0.1, 0.04), 1e-3);
+  CollisionMesh box = make_box(Vec3(-0.1, -0.2, -0.05), Vec3(0.0, 0.2, 0.05));
+  // One vertex of that column is a handle: never moved.
+  sheet.frozen.assign(static_cast<std::size_t>(sheet.x1.rows()), 0);
+  int handle = -1;
+  for (int v = 0; v < sheet.x1.rows(); ++v)
+    if (sheet.x1(v, 0) < 0.0 && handle < 0) handle = v;
+  ASSERT_GE(handle, 0);
+  sheet.frozen[static_cast<std::size_t>(handle)] = 1;
+  const Points before = sheet.x1;
+  const double offset = 1e-4;
+  const InsideReport report = push_out_of_obstacles({&sheet, &box}, offset);
+
+  int moved = 0;
+  for (int v = 0; v < sheet.x1.rows(); ++v) {
+    const bool inside = before(v, 0) < 0.0 && v != handle;
+    if (!inside) {
+      EXPECT_EQ(sheet.x1.row(v), before.row(v)) << "vertex " << v;
+      continue;
+    }
+    ++moved;
+    // Straight up through the top face, the closest, to `offset` above it.
+    EXPECT_NEAR(sheet.x1(v, 0), before(v, 0), 1e-15);
+    EXPECT_NEAR(sheet.x1(v, 1), before(v, 1), 1e-15);
+    EXPECT_NEAR(sheet.x1(v, 2), 0.05 + offset, 1e-12);
+    EXPECT_LT(winding_number(box.x1, box.faces, sheet.x1.row(v).transpose()), 0.5);
+  }
+  EXPECT_EQ(report.vertices, moved);
+  EXPECT_EQ(moved, 2);
+  EXPECT_NEAR(report.depth, 0.01, 1e-12);
+}
+
+TEST(InsideObstacles, AVertexDeepInACornerLeavesByTheClosestSide) {
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.0, 0.0, 0.0), 1e-3);
+  CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  // Vertex 0 at (0.045, 0, 0.03): 5 mm from the x = 0.05 face, 20 mm from the top.
+  sheet.x1.row(0) << 0.045, 0.0, 0.03;
+  for (int v = 1; v < sheet.x1.rows(); ++v) sheet.x1.row(v) << 0.2, 0.2 + 0.01 * v, 0.0;
+  const InsideReport report = push_out_of_obstacles({&sheet, &box}, 0.0);
+  EXPECT_EQ(report.vertices, 1);
+  EXPECT_NEAR(report.depth, 0.005, 1e-12);
+  EXPECT_NEAR(sheet.x1(0, 0), 0.05, 1e-12);
+  EXPECT_NEAR(sheet.x1(0, 1), 0.0, 1e-12);
+  EXPECT_NEAR(sheet.x1(0, 2), 0.03, 1e-12);
+}
+
+TEST(InsideObstacles, AnOpenBodyHasNoInside) {
+  // A box without its top, a cup: from a point in its hollow the walls fill most of the view
+  // (winding number about 0.8), but the hollow is outside the body.
+  CollisionMesh cup = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  CollisionMesh box = cup;
+  Triangles open(10, 3);
+  int row = 0;
+  for (int f = 0; f < 12; ++f)
+    if (f != 2 && f != 3) open.row(row++) = cup.faces.row(f);  // faces 2, 3: the top (z = hi)
+  cup.faces = open;
+  EXPECT_TRUE(closed_and_oriented(box.faces));
+  EXPECT_FALSE(closed_and_oriented(cup.faces));
+  const Vec3 hollow(0.0, 0.0, -0.03);
+  EXPECT_GT(winding_number(cup.x1, cup.faces, hollow), 0.5);
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(-0.005, -0.005, -0.03), 1e-3);
+  const Points before = sheet.x1;
+  EXPECT_EQ(push_out_of_obstacles({&sheet, &cup}, 0.0).vertices, 0);
+  EXPECT_EQ(sheet.x1, before);
+  // The same vertices in the closed box are moved out.
+  EXPECT_EQ(push_out_of_obstacles({&sheet, &box}, 0.0).vertices, 4);
+}
