@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <string>
 
 #include "cloth/collision/inside_obstacles.hpp"
@@ -164,11 +165,13 @@ void inelastic_projection(const WorldModel& model, WorldData& data) {
   if (model.mode != CouplingMode::bai_liu) return;
   const collision::InsideReport inside =
       collision::push_out_of_obstacles(mesh_list(data), options.offset);
-  if (inside.vertices > 0)
-    data.warnings.add(data.step, std::to_string(inside.vertices) +
-                                     " cloth vertices found inside bodies moved to their surface "
-                                     "(deepest " +
-                                     std::to_string(1e3 * inside.depth) + " mm)");
+  if (inside.vertices > 0) {
+    char text[96];
+    std::snprintf(text, sizeof text,
+                  "%d cloth vertices found inside bodies moved to their surface (deepest %.2f mm)",
+                  inside.vertices, 1e3 * inside.depth);
+    data.warnings.add(data.step, text);
+  }
 }
 
 /// The cloth's new state from the refined end-of-step positions.

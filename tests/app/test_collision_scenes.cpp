@@ -48,26 +48,28 @@ TEST(CollisionScenes, SheetLiesOnTheTableAtTheThicknessAndHangsOverTheEdge) {
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(collision_warnings(s), 0) << s["warnings"].dump();
   EXPECT_NEAR(last(s, "on_table")[3], 0.80 + 0.005, 1e-3);  // table top 0.8 m
-  EXPECT_LT(last(s, "hanging")[3], 0.75);                    // the overhang fell below the top
+  EXPECT_LT(last(s, "hanging")[3], 0.75);                   // the overhang fell below the top
 }
 
 TEST(CollisionScenes, FastFallOntoAThinBoxDoesNotTunnel) {
   // Strong gravity (100 m/s²) and a 0.13 m drop make the sheet hit the 1 cm thick table at
   // √(2·100·0.13) = 5.1 m/s (25 mm per step, 2.5 times the box's thickness per step).
-  const auto s = run_scene("drape_table", "--duration 0.3 --set /gravity=[0,0,-100] --set /frame_rate=200 "
-                                          "--set /cloths/0/transform/translation=[0.25,0,0.93] "
-                                          "--set /obstacles/0/shape/box/size=[0.6,0.6,0.01] "
-                                          "--set /obstacles/0/transform/translation=[0,0,0.795]");
+  const auto s = run_scene("drape_table",
+                           "--duration 0.3 --set /gravity=[0,0,-100] --set /frame_rate=200 "
+                           "--set /cloths/0/transform/translation=[0.25,0,0.93] "
+                           "--set /obstacles/0/shape/box/size=[0.6,0.6,0.01] "
+                           "--set /obstacles/0/transform/translation=[0,0,0.795]");
   EXPECT_EQ(s["intersections_max"], 0);
   const auto& on_table = s["probes"]["on_table"];
   double fastest = 0.0;
   for (std::size_t k = 1; k < on_table.size(); ++k)
-    fastest = std::max(fastest, (on_table[k - 1][3].get<double>() - on_table[k][3].get<double>()) /
-                                    (on_table[k][0].get<double>() - on_table[k - 1][0].get<double>()));
+    fastest =
+        std::max(fastest, (on_table[k - 1][3].get<double>() - on_table[k][3].get<double>()) /
+                              (on_table[k][0].get<double>() - on_table[k - 1][0].get<double>()));
   // It really came down fast: implicit Euler's free fall reaches v = 9·h·g = 4.5 m/s in the last
   // whole step before the hit (the contact layer is 0.125 m down, passed during step 10).
   EXPECT_GT(fastest, 0.99 * 4.5);
-  EXPECT_GT(last(s, "on_table")[3], 0.80);                   // and stayed on top of the box
+  EXPECT_GT(last(s, "on_table")[3], 0.80);  // and stayed on top of the box
 }
 
 TEST(CollisionScenes, SheetFoldedOntoItselfAndASecondSheetNeverIntersect) {
@@ -107,8 +109,9 @@ TEST(CollisionScenes, SelfCollisionOffLeavesAClothOnlyItsContactsWithOthers) {
 
 TEST(CollisionScenes, StrainLimitingBoundsTheStretchOfAHeavyStrip) {
   // 50 kg/m² would stretch the strip by ρgL²/(2Et) = 49 %; limits [0.95, 1.05] keep it within 5 %.
-  const auto s = run_scene("strip", "--duration 1.0 --set /cloths/0/material/density=50 "
-                                    "--set /cloths/0/material/strain_limits=[0.95,1.05]");
+  const auto s = run_scene("strip",
+                           "--duration 1.0 --set /cloths/0/material/density=50 "
+                           "--set /cloths/0/material/strain_limits=[0.95,1.05]");
   const double length = last(s, "top")[3] - last(s, "bottom")[3];
   EXPECT_LE(length, 1.0 * 1.05 * (1.0 + 2e-3));  // strain-limit tolerance 1e-3 per triangle
   EXPECT_GT(length, 1.03);                       // and the load really stretched it
@@ -143,7 +146,8 @@ TEST_P(Incline, SlidesIffTanThetaExceedsMuAtTheCoulombAcceleration) {
   const auto& p = s["probes"]["centre"];
   const Eigen::Vector3d down(0.0, -std::cos(theta), -std::sin(theta));
   const auto along = [&](std::size_t k) {
-    return Eigen::Vector3d(p[k][1].get<double>(), p[k][2].get<double>(), p[k][3].get<double>()).dot(down);
+    return Eigen::Vector3d(p[k][1].get<double>(), p[k][2].get<double>(), p[k][3].get<double>())
+        .dot(down);
   };
   const std::size_t k0 = 10, k1 = p.size() - 1;  // frames at 50 fps
   const double travelled = along(k1) - along(k0);
@@ -175,3 +179,30 @@ INSTANTIATE_TEST_SUITE_P(
              "_mu" + std::to_string(static_cast<int>(info.param.mu * 10)) +
              (info.param.degrees_off < 0 ? "_below" : "_above");
     });
+
+TEST(CollisionScenes, ASheetFoundInsideTheTableIsPutBackOnItsTopWithoutBeingThrown) {
+  // A 0.4 m sheet started 10 mm under the top of the 0.6 m table (inside it, 40 mm above its
+  // bottom): the bai-liu step moves every vertex out through the closest face, the top, and the
+  // sheet then lies there at the repulsion thickness. The move is not motion: moved 10 mm in
+  // one 5 ms step, it would otherwise leave at 2 m/s (it rose 20 cm before this was so).
+  const std::string args =
+      "--duration 0.5 --set /cloths/0/mesh/grid/size=[0.4,0.4] "
+      "--set /cloths/0/mesh/grid/resolution=[17,17] --set "
+      "/cloths/0/transform/translation=[0,0,0.79]";
+  const auto s = run_scene("drape_table", args);
+  EXPECT_EQ(s["intersections_max"], 0);
+  bool moved_out = false;
+  for (const auto& w : s["warnings"])
+    moved_out = moved_out || (w["step"] == 0 && w["message"].get<std::string>().find(
+                                                    "289 cloth vertices found inside bodies") == 0);
+  EXPECT_TRUE(moved_out) << s["warnings"].dump();
+  double highest = 0.0;
+  for (const auto& row : s["probes"]["on_table"]) highest = std::max(highest, row[3].get<double>());
+  EXPECT_LT(highest, 0.80 + 0.006);
+  EXPECT_NEAR(last(s, "on_table")[3], 0.80 + 0.005, 1e-3);
+  // The kinematic baseline (ARCSim's handling) has no such recovery: the sheet stays inside and
+  // settles on the inner face of the table's bottom (0.75 m).
+  const auto k = run_scene("drape_table", args + " --coupling kinematic");
+  EXPECT_EQ(k["warnings_total"], 0) << k["warnings"].dump();
+  EXPECT_LT(last(k, "on_table")[3], 0.76);
+}

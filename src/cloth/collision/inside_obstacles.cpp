@@ -30,11 +30,17 @@ namespace {
 struct SurfacePoint {
   Vec3 point{Vec3::Zero()};
   Vec3 normal{Vec3::UnitZ()};  // outward normal of the closest face
+  Vec3 motion{Vec3::Zero()};   // the surface point's motion over the step, x0 → x1 [m]
   double distance{std::numeric_limits<double>::infinity()};
 };
 
-SurfacePoint closest_surface_point(const Points& x, const Triangles& faces, const Vec3& p) {
+/// The closest point to `p` of the obstacle's surface at x1, with its motion from x0.
+SurfacePoint closest_surface_point(const CollisionMesh& obstacle, const Vec3& p) {
+  const Points& x = obstacle.x1;
+  const Triangles& faces = obstacle.faces;
   SurfacePoint best;
+  Eigen::Index closest = -1;
+  Vec3 weights = Vec3::Zero();
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Vec3 a = x.row(faces(f, 0)).transpose(), b = x.row(faces(f, 1)).transpose(),
                c = x.row(faces(f, 2)).transpose();
@@ -43,8 +49,17 @@ SurfacePoint closest_surface_point(const Points& x, const Triangles& faces, cons
     const Vec3 w = closest_point_triangle(p, a, b, c);
     const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
     const double d = (p - q).norm();
-    if (d < best.distance) best = {q, n.normalized(), d};
+    if (d < best.distance) {
+      best = {q, n.normalized(), Vec3::Zero(), d};
+      closest = f;
+      weights = w;
+    }
   }
+  if (closest >= 0)
+    for (int k = 0; k < 3; ++k) {
+      const int c = faces(closest, k);
+      best.motion += weights[k] * (obstacle.x1.row(c) - obstacle.x0.row(c)).transpose();
+    }
   return best;
 }
 
@@ -85,9 +100,16 @@ InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, do
         const Vec3 p = cloth->x1.row(v).transpose();
         if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
         if (winding_number(ox, obstacle->faces, p) <= 0.5) continue;
-        const SurfacePoint s = closest_surface_point(ox, obstacle->faces, p);
+        const SurfacePoint s = closest_surface_point(*obstacle, p);
         if (!std::isfinite(s.distance)) continue;
+        // Moved, not accelerated: the step's motion keeps its tangential part and loses what
+        // approached the surface (inelastically), so x0 moves with x1 and x1 − x0 stays a
+        // velocity the vertex had, not the jump out.
+        Vec3 motion = (cloth->x1.row(v) - cloth->x0.row(v)).transpose();
+        const double approach = (motion - s.motion).dot(s.normal);
+        if (approach < 0.0) motion -= approach * s.normal;
         cloth->x1.row(v) = (s.point + offset * s.normal).transpose();
+        cloth->x0.row(v) = cloth->x1.row(v) - motion.transpose();
         ++report.vertices;
         report.depth = std::max(report.depth, s.distance);
       }

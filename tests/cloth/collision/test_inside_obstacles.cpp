@@ -93,3 +93,29 @@ TEST(InsideObstacles, AnOpenBodyHasNoInside) {
   // The same vertices in the closed box are moved out.
   EXPECT_EQ(push_out_of_obstacles({&sheet, &box}, 0.0).vertices, 4);
 }
+
+TEST(InsideObstacles, TheMoveOutIsNotMotionAndWhatApproachedTheSurfaceIsLost) {
+  // Vertex 0 ends 10 mm under the top of a box after moving 3 mm along x and 4 mm down over the
+  // step; vertex 1, inside too, was moving up (out) by 2 mm. The box itself moves 1 mm along y.
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.0, 0.0, 0.0), 1e-3);
+  CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  box.x0.col(1).array() -= 0.001;
+  for (int v = 2; v < sheet.x1.rows(); ++v) {
+    sheet.x1.row(v) << 0.2, 0.2 + 0.01 * v, 0.0;
+    sheet.x0.row(v) = sheet.x1.row(v);
+  }
+  sheet.x1.row(0) << 0.0, 0.0, 0.04;
+  sheet.x0.row(0) << -0.003, 0.0, 0.044;
+  sheet.x1.row(1) << 0.01, 0.0, 0.04;
+  sheet.x0.row(1) << 0.01, 0.0, 0.038;
+  const InsideReport report = push_out_of_obstacles({&sheet, &box}, 0.0);
+  EXPECT_EQ(report.vertices, 2);
+  // Both on the top face; vertex 0 keeps its 3 mm along x and loses its 4 mm down (the top's
+  // own motion is along y, tangential); vertex 1 keeps its 2 mm up.
+  EXPECT_NEAR(sheet.x1(0, 2), 0.05, 1e-12);
+  EXPECT_NEAR(sheet.x1(1, 2), 0.05, 1e-12);
+  const Vec3 motion0 = (sheet.x1.row(0) - sheet.x0.row(0)).transpose();
+  const Vec3 motion1 = (sheet.x1.row(1) - sheet.x0.row(1)).transpose();
+  EXPECT_NEAR((motion0 - Vec3(0.003, 0.0, 0.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((motion1 - Vec3(0.0, 0.0, 0.002)).norm(), 0.0, 1e-12);
+}
