@@ -41,8 +41,8 @@ TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   // at the end; up to 140 intersecting pairs), and in one the napkin, squeezed under the still
   // palm, shot sideways off the table. With that recovery, on another machine the scene's own
   // start and all six left it on the table (mean 5–14 mm at 3.6 s), but with the first
-  // machine's BLAS kernels (OPENBLAS_CORETYPE=Cooperlake) one of those seven was still carried
-  // up (5.5 cm on average): README, "What it does not do yet".
+  // machine's BLAS kernels (OPENBLAS_CORETYPE=Cooperlake) in two of those seven the hand still
+  // carried part of it up (highest vertex 11.5 and 12.4 cm): README, "What it does not do yet".
 }
 
 TEST(PressFlatten, TheKinematicHandLeavesAHeap) {

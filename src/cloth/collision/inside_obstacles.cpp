@@ -27,6 +27,86 @@ double winding_number(const Points& x, const Triangles& faces, const Vec3& p) {
 
 namespace {
 
+/// A closed piece of an obstacle mesh (a body's shapes are appended as separate pieces): its
+/// faces, bounds, and whether it is convex (then a point is inside iff behind every face).
+struct Piece {
+  std::vector<int> faces;
+  Vec3 lo{Vec3::Constant(std::numeric_limits<double>::infinity())};
+  Vec3 hi{Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  bool convex{true};
+};
+
+Vec3 corner(const CollisionMesh& m, int f, int k) { return m.x1.row(m.faces(f, k)).transpose(); }
+
+/// The obstacle's pieces at x1: faces joined by shared vertices.
+std::vector<Piece> pieces_of(const CollisionMesh& obstacle) {
+  const auto nv = static_cast<std::size_t>(obstacle.x1.rows());
+  std::vector<int> parent(nv);
+  for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<int>(v);
+  const auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  for (Eigen::Index f = 0; f < obstacle.faces.rows(); ++f)
+    for (int k = 1; k < 3; ++k)
+      parent[static_cast<std::size_t>(root(obstacle.faces(f, k)))] = root(obstacle.faces(f, 0));
+  std::vector<Piece> pieces;
+  std::vector<int> piece_of_root(nv, -1);
+  for (Eigen::Index f = 0; f < obstacle.faces.rows(); ++f) {
+    int& index = piece_of_root[static_cast<std::size_t>(root(obstacle.faces(f, 0)))];
+    if (index < 0) {
+      index = static_cast<int>(pieces.size());
+      pieces.emplace_back();
+    }
+    Piece& piece = pieces[static_cast<std::size_t>(index)];
+    piece.faces.push_back(static_cast<int>(f));
+    for (int k = 0; k < 3; ++k) {
+      piece.lo = piece.lo.cwiseMin(corner(obstacle, static_cast<int>(f), k));
+      piece.hi = piece.hi.cwiseMax(corner(obstacle, static_cast<int>(f), k));
+    }
+  }
+  // Convex: every corner of the piece on or behind every face's plane (to rounding).
+  for (Piece& piece : pieces) {
+    const double tolerance = 1e-9 * (piece.hi - piece.lo).norm();
+    for (const int f : piece.faces) {
+      const Vec3 a = corner(obstacle, f, 0);
+      const Vec3 n = (corner(obstacle, f, 1) - a).cross(corner(obstacle, f, 2) - a);
+      if (n.squaredNorm() == 0.0) continue;
+      const Vec3 u = n.normalized();
+      for (const int g : piece.faces)
+        for (int k = 0; k < 3 && piece.convex; ++k)
+          if (u.dot(corner(obstacle, g, k) - a) > tolerance) piece.convex = false;
+      if (!piece.convex) break;
+    }
+  }
+  return pieces;
+}
+
+/// Whether `p` is inside `piece` of `obstacle` (strictly behind every face of a convex piece,
+/// else a winding number above ½).
+bool inside_piece(const CollisionMesh& obstacle, const Piece& piece, const Vec3& p) {
+  if ((p.array() < piece.lo.array()).any() || (p.array() > piece.hi.array()).any()) return false;
+  if (piece.convex) {
+    for (const int f : piece.faces) {
+      const Vec3 a = corner(obstacle, f, 0);
+      const Vec3 n = (corner(obstacle, f, 1) - a).cross(corner(obstacle, f, 2) - a);
+      if (n.dot(p - a) >= 0.0) return false;
+    }
+    return true;
+  }
+  Triangles faces(static_cast<Eigen::Index>(piece.faces.size()), 3);
+  for (std::size_t k = 0; k < piece.faces.size(); ++k)
+    faces.row(static_cast<Eigen::Index>(k)) = obstacle.faces.row(piece.faces[k]);
+  return winding_number(obstacle.x1, faces, p) > 0.5;
+}
+
+bool inside_any(const CollisionMesh& obstacle, const std::vector<Piece>& pieces, const Vec3& p) {
+  return std::any_of(pieces.begin(), pieces.end(),
+                     [&](const Piece& piece) { return inside_piece(obstacle, piece, p); });
+}
+
 struct SurfacePoint {
   Vec3 point{Vec3::Zero()};
   Vec3 normal{Vec3::UnitZ()};  // outward normal of the closest face
@@ -34,8 +114,11 @@ struct SurfacePoint {
   double distance{std::numeric_limits<double>::infinity()};
 };
 
-/// The closest point to `p` of the obstacle's surface at x1, with its motion from x0.
-SurfacePoint closest_surface_point(const CollisionMesh& obstacle, const Vec3& p) {
+/// The closest point to `p` of the obstacle's surface at x1, with its motion from x0; with
+/// `outer`, only points that `offset` out along their face's normal are inside no piece (a face
+/// of one piece buried in another is not the body's surface).
+SurfacePoint closest_surface_point(const CollisionMesh& obstacle, const Vec3& p,
+                                   const std::vector<Piece>* outer = nullptr, double offset = 0.0) {
   const Points& x = obstacle.x1;
   const Triangles& faces = obstacle.faces;
   SurfacePoint best;
@@ -49,6 +132,8 @@ SurfacePoint closest_surface_point(const CollisionMesh& obstacle, const Vec3& p)
     const Vec3 w = closest_point_triangle(p, a, b, c);
     const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
     const double d = (p - q).norm();
+    if (d < best.distance && outer && inside_any(obstacle, *outer, q + offset * n.normalized()))
+      continue;
     if (d < best.distance) {
       best = {q, n.normalized(), Vec3::Zero(), d};
       closest = f;
@@ -92,6 +177,7 @@ InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, do
     if (!obstacle->obstacle || !closed_and_oriented(obstacle->faces)) continue;
     const Points& ox = obstacle->x1;
     const Vec3 lo = ox.colwise().minCoeff().transpose(), hi = ox.colwise().maxCoeff().transpose();
+    std::vector<Piece> pieces;  // found when a cloth vertex is first within the bounds
     for (CollisionMesh* cloth : meshes) {
       if (cloth->obstacle) continue;
       for (Eigen::Index v = 0; v < cloth->x1.rows(); ++v) {
@@ -99,8 +185,11 @@ InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, do
           continue;
         const Vec3 p = cloth->x1.row(v).transpose();
         if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
-        if (winding_number(ox, obstacle->faces, p) <= 0.5) continue;
-        const SurfacePoint s = closest_surface_point(*obstacle, p);
+        if (pieces.empty()) pieces = pieces_of(*obstacle);
+        if (!inside_any(*obstacle, pieces, p)) continue;
+        SurfacePoint s = closest_surface_point(*obstacle, p);
+        if (pieces.size() > 1 && inside_any(*obstacle, pieces, s.point + offset * s.normal))
+          s = closest_surface_point(*obstacle, p, &pieces, offset);
         if (!std::isfinite(s.distance)) continue;
         // Moved, not accelerated: the step's motion keeps its tangential part and loses what
         // approached the surface (inelastically), so x0 moves with x1 and x1 − x0 stays a

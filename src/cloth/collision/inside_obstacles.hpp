@@ -25,12 +25,15 @@ struct InsideReport {
   double depth{};  ///< the deepest of them below the surface [m]
 };
 
-/// Moves every movable cloth vertex of `meshes` whose x1 lies inside an obstacle's x1 (winding
-/// number above ½) to the closest point of that obstacle's surface, `offset` [m] out along the
-/// closest face's outward normal. The move is not motion: x0 moves too, so that the step's
-/// motion x1 − x0 (the velocity the step leaves) is what it was less any part approaching the
-/// surface relative to it. Only closed obstacles (closed_and_oriented) with outward-facing
-/// (counter-clockwise) triangles are looked into; frozen vertices (handles) stay where they are.
+/// Moves every movable cloth vertex of `meshes` whose x1 lies inside an obstacle's x1 to the
+/// closest point of that obstacle's surface, `offset` [m] out along the closest face's outward
+/// normal. An obstacle is looked into piece by piece (faces joined by shared vertices, one per
+/// shape of a body): inside a convex piece is behind all its faces, inside another a winding
+/// number above ½; a face buried in another piece is not surface. The move is not motion: x0 moves
+/// too, so that the step's motion x1 − x0 (the velocity the step leaves) is what it was less any
+/// part approaching the surface relative to it. Only closed obstacles (closed_and_oriented) with
+/// outward-facing (counter-clockwise) triangles are looked into; frozen vertices (handles) stay
+/// where they are.
 InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, double offset);
 
 }  // namespace dexcloth::collision

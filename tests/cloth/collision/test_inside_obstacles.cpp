@@ -119,3 +119,65 @@ TEST(InsideObstacles, TheMoveOutIsNotMotionAndWhatApproachedTheSurfaceIsLost) {
   EXPECT_NEAR((motion0 - Vec3(0.003, 0.0, 0.0)).norm(), 0.0, 1e-12);
   EXPECT_NEAR((motion1 - Vec3(0.0, 0.0, 0.002)).norm(), 0.0, 1e-12);
 }
+
+namespace {
+
+// Two boxes in one obstacle mesh, as a body with two shapes: separate pieces that overlap.
+CollisionMesh two_boxes(const CollisionMesh& a, const CollisionMesh& b) {
+  CollisionMesh m = a;
+  const auto na = a.x0.rows();
+  m.x0.resize(na + b.x0.rows(), 3);
+  m.x0 << a.x0, b.x0;
+  m.x1 = m.x0;
+  m.faces.resize(a.faces.rows() + b.faces.rows(), 3);
+  m.faces << a.faces, (b.faces.array() + static_cast<int>(na)).matrix();
+  m.mass = Eigen::VectorXd::Ones(m.x0.rows());
+  return m;
+}
+
+}  // namespace
+
+TEST(InsideObstacles, AVertexInsideOverlappingShapesLeavesByTheBodysOuterSurface) {
+  // Box A, [−5, 5] cm cubed; box B, x in [0, 10] cm, z up to 4 cm, overlapping it. A vertex at
+  // (4.5, 0, 3) cm, in both: the closest faces, A's x = 5 cm (5 mm) and B's top (10 mm), are
+  // buried in the other box; the closest outer one is A's top (20 mm).
+  const CollisionMesh body = two_boxes(make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05)),
+                                       make_box(Vec3(0.0, -0.05, -0.05), Vec3(0.1, 0.05, 0.04)));
+  ASSERT_TRUE(closed_and_oriented(body.faces));
+  CollisionMesh obstacle = body;
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.3, 0.3, 0.0), 1e-3);
+  sheet.x1.row(0) << 0.045, 0.0, 0.03;
+  sheet.x0.row(0) = sheet.x1.row(0);
+  const InsideReport report = push_out_of_obstacles({&sheet, &obstacle}, 1e-4);
+  EXPECT_EQ(report.vertices, 1);
+  EXPECT_NEAR((sheet.x1.row(0).transpose() - Vec3(0.045, 0.0, 0.05 + 1e-4)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(report.depth, 0.02, 1e-12);
+}
+
+TEST(InsideObstacles, ANonConvexBodyIsLookedIntoByItsWindingNumber) {
+  // A box with its (+, +, +) corner pulled in to the centre: a dent. A point in the dent is
+  // outside the body; (3, 3, −4) cm is inside it though in front of a dented face's plane, so
+  // a test that took the body for convex (behind every face) would miss it.
+  CollisionMesh dented = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  dented.x0.row(7) << 0.0, 0.0, 0.0;
+  dented.x1 = dented.x0;
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.3, 0.3, 0.0), 1e-3);
+  sheet.x1.row(0) << 0.04, 0.04, 0.04;   // in the dent
+  sheet.x1.row(1) << 0.03, 0.03, -0.04;  // inside
+  sheet.x0 = sheet.x1;
+  const Vec3 dent_point = sheet.x1.row(0).transpose(), inside = sheet.x1.row(1).transpose();
+  EXPECT_LT(winding_number(dented.x1, dented.faces, dent_point), 0.5);
+  EXPECT_GT(winding_number(dented.x1, dented.faces, inside), 0.5);
+  bool behind_every_face = true;
+  for (int f = 0; f < dented.faces.rows(); ++f) {
+    const Vec3 a = dented.x1.row(dented.faces(f, 0)).transpose();
+    const Vec3 n = (dented.x1.row(dented.faces(f, 1)).transpose() - a)
+                       .cross(dented.x1.row(dented.faces(f, 2)).transpose() - a);
+    behind_every_face = behind_every_face && n.dot(inside - a) < 0.0;
+  }
+  ASSERT_FALSE(behind_every_face);
+  const InsideReport report = push_out_of_obstacles({&sheet, &dented}, 1e-4);
+  EXPECT_EQ(report.vertices, 1);
+  EXPECT_EQ(sheet.x1.row(0).transpose(), dent_point);
+  EXPECT_LT(winding_number(dented.x1, dented.faces, sheet.x1.row(1).transpose()), 0.5);
+}
