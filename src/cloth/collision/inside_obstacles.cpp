@@ -92,7 +92,8 @@ bool inside_piece(const CollisionMesh& obstacle, const Piece& piece, const Vec3&
     for (const int f : piece.faces) {
       const Vec3 a = corner(obstacle, f, 0);
       const Vec3 n = (corner(obstacle, f, 1) - a).cross(corner(obstacle, f, 2) - a);
-      if (n.dot(p - a) >= 0.0) return false;
+      // In front of a face: outside (a degenerate face has no front).
+      if (n.dot(p - a) >= 0.0 && n.squaredNorm() > 0.0) return false;
     }
     return true;
   }

@@ -181,3 +181,29 @@ TEST(InsideObstacles, ANonConvexBodyIsLookedIntoByItsWindingNumber) {
   EXPECT_EQ(sheet.x1.row(0).transpose(), dent_point);
   EXPECT_LT(winding_number(dented.x1, dented.faces, sheet.x1.row(1).transpose()), 0.5);
 }
+
+TEST(InsideObstacles, AZeroAreaFaceDoesNotHideTheInside) {
+  // A box whose top-front edge (4–5) carries a midpoint m: the top's triangle (4, 5, 7) becomes
+  // (4, m, 7) and (m, 5, 7), and a zero-area sliver (4, 5, m) closes the mesh. The sliver has no
+  // front or back; a vertex at the centre is still inside.
+  CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  Points x(9, 3);
+  x << box.x0, 0.5 * (box.x0.row(4) + box.x0.row(5));
+  Triangles faces(14, 3);
+  int row = 0;
+  for (int f = 0; f < 12; ++f)
+    if (f != 2) faces.row(row++) = box.faces.row(f);  // face 2 is (4, 5, 7)
+  faces.row(row++) << 4, 8, 7;
+  faces.row(row++) << 8, 5, 7;
+  faces.row(row++) << 4, 5, 8;
+  box.x0 = x;
+  box.x1 = x;
+  box.mass = Eigen::VectorXd::Ones(9);
+  box.faces = faces;
+  ASSERT_TRUE(closed_and_oriented(box.faces));
+  CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.3, 0.3, 0.0), 1e-3);
+  sheet.x1.row(0) << 0.0, 0.0, 0.04;
+  sheet.x0 = sheet.x1;
+  EXPECT_EQ(push_out_of_obstacles({&sheet, &box}, 0.0).vertices, 1);
+  EXPECT_NEAR(sheet.x1(0, 2), 0.05, 1e-12);
+}
