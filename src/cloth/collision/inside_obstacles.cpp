@@ -30,13 +30,15 @@ namespace {
 /// A closed piece of an obstacle mesh (a body's shapes are appended as separate pieces): its
 /// faces, bounds, and whether it is convex (then a point is inside iff behind every face).
 struct Piece {
-  std::vector<int> faces;
+  Triangles faces;  ///< its faces, as rows of the obstacle's
   Vec3 lo{Vec3::Constant(std::numeric_limits<double>::infinity())};
   Vec3 hi{Vec3::Constant(-std::numeric_limits<double>::infinity())};
   bool convex{true};
 };
 
-Vec3 corner(const CollisionMesh& m, int f, int k) { return m.x1.row(m.faces(f, k)).transpose(); }
+Vec3 corner(const Points& x, const Triangles& faces, Eigen::Index f, int k) {
+  return x.row(faces(f, k)).transpose();
+}
 
 /// The obstacle's pieces at x1: faces joined by shared vertices.
 std::vector<Piece> pieces_of(const CollisionMesh& obstacle) {
@@ -52,33 +54,42 @@ std::vector<Piece> pieces_of(const CollisionMesh& obstacle) {
   for (Eigen::Index f = 0; f < obstacle.faces.rows(); ++f)
     for (int k = 1; k < 3; ++k)
       parent[static_cast<std::size_t>(root(obstacle.faces(f, k)))] = root(obstacle.faces(f, 0));
-  std::vector<Piece> pieces;
-  std::vector<int> piece_of_root(nv, -1);
+  // Each face's piece, then each piece's faces in the obstacle's order.
+  std::vector<int> piece_of_root(nv, -1), piece_of_face;
+  std::vector<Eigen::Index> count;
   for (Eigen::Index f = 0; f < obstacle.faces.rows(); ++f) {
     int& index = piece_of_root[static_cast<std::size_t>(root(obstacle.faces(f, 0)))];
     if (index < 0) {
-      index = static_cast<int>(pieces.size());
-      pieces.emplace_back();
+      index = static_cast<int>(count.size());
+      count.push_back(0);
     }
-    Piece& piece = pieces[static_cast<std::size_t>(index)];
-    piece.faces.push_back(static_cast<int>(f));
-    for (int k = 0; k < 3; ++k) {
-      piece.lo = piece.lo.cwiseMin(corner(obstacle, static_cast<int>(f), k));
-      piece.hi = piece.hi.cwiseMax(corner(obstacle, static_cast<int>(f), k));
+    piece_of_face.push_back(index);
+    ++count[static_cast<std::size_t>(index)];
+  }
+  std::vector<Piece> pieces(count.size());
+  for (std::size_t k = 0; k < count.size(); ++k) pieces[k].faces.resize(count[k], 3);
+  std::fill(count.begin(), count.end(), 0);
+  for (Eigen::Index f = 0; f < obstacle.faces.rows(); ++f) {
+    const auto k = static_cast<std::size_t>(piece_of_face[static_cast<std::size_t>(f)]);
+    Piece& piece = pieces[k];
+    piece.faces.row(count[k]++) = obstacle.faces.row(f);
+    for (int c = 0; c < 3; ++c) {
+      piece.lo = piece.lo.cwiseMin(corner(obstacle.x1, obstacle.faces, f, c));
+      piece.hi = piece.hi.cwiseMax(corner(obstacle.x1, obstacle.faces, f, c));
     }
   }
   // Convex: every corner of the piece on or behind every face's plane (to rounding).
+  const Points& x = obstacle.x1;
   for (Piece& piece : pieces) {
     const double tolerance = 1e-9 * (piece.hi - piece.lo).norm();
-    for (const int f : piece.faces) {
-      const Vec3 a = corner(obstacle, f, 0);
-      const Vec3 n = (corner(obstacle, f, 1) - a).cross(corner(obstacle, f, 2) - a);
+    for (Eigen::Index f = 0; f < piece.faces.rows() && piece.convex; ++f) {
+      const Vec3 a = corner(x, piece.faces, f, 0);
+      const Vec3 n = (corner(x, piece.faces, f, 1) - a).cross(corner(x, piece.faces, f, 2) - a);
       if (n.squaredNorm() == 0.0) continue;
       const Vec3 u = n.normalized();
-      for (const int g : piece.faces)
-        for (int k = 0; k < 3 && piece.convex; ++k)
-          if (u.dot(corner(obstacle, g, k) - a) > tolerance) piece.convex = false;
-      if (!piece.convex) break;
+      for (Eigen::Index g = 0; g < piece.faces.rows() && piece.convex; ++g)
+        for (int k = 0; k < 3; ++k)
+          if (u.dot(corner(x, piece.faces, g, k) - a) > tolerance) piece.convex = false;
     }
   }
   return pieces;
@@ -88,19 +99,17 @@ std::vector<Piece> pieces_of(const CollisionMesh& obstacle) {
 /// else a winding number above ½).
 bool inside_piece(const CollisionMesh& obstacle, const Piece& piece, const Vec3& p) {
   if ((p.array() < piece.lo.array()).any() || (p.array() > piece.hi.array()).any()) return false;
+  const Points& x = obstacle.x1;
   if (piece.convex) {
-    for (const int f : piece.faces) {
-      const Vec3 a = corner(obstacle, f, 0);
-      const Vec3 n = (corner(obstacle, f, 1) - a).cross(corner(obstacle, f, 2) - a);
+    for (Eigen::Index f = 0; f < piece.faces.rows(); ++f) {
+      const Vec3 a = corner(x, piece.faces, f, 0);
+      const Vec3 n = (corner(x, piece.faces, f, 1) - a).cross(corner(x, piece.faces, f, 2) - a);
       // In front of a face: outside (a degenerate face has no front).
       if (n.dot(p - a) >= 0.0 && n.squaredNorm() > 0.0) return false;
     }
     return true;
   }
-  Triangles faces(static_cast<Eigen::Index>(piece.faces.size()), 3);
-  for (std::size_t k = 0; k < piece.faces.size(); ++k)
-    faces.row(static_cast<Eigen::Index>(k)) = obstacle.faces.row(piece.faces[k]);
-  return winding_number(obstacle.x1, faces, p) > 0.5;
+  return winding_number(x, piece.faces, p) > 0.5;
 }
 
 bool inside_any(const CollisionMesh& obstacle, const std::vector<Piece>& pieces, const Vec3& p) {
@@ -174,11 +183,13 @@ bool closed_and_oriented(const Triangles& faces) {
 InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, double offset) {
   InsideReport report;
   for (const CollisionMesh* obstacle : meshes) {
-    // Only closed bodies have an inside (an open mesh, a cup, would claim its hollow).
-    if (!obstacle->obstacle || !closed_and_oriented(obstacle->faces)) continue;
+    if (!obstacle->obstacle) continue;
     const Points& ox = obstacle->x1;
     const Vec3 lo = ox.colwise().minCoeff().transpose(), hi = ox.colwise().maxCoeff().transpose();
-    std::vector<Piece> pieces;  // found when a cloth vertex is first within the bounds
+    // Looked at when a cloth vertex is first within the bounds: only a closed body has an inside
+    // (an open mesh, a cup, would claim its hollow), then its pieces.
+    bool looked = false, closed = false;
+    std::vector<Piece> pieces;
     for (CollisionMesh* cloth : meshes) {
       if (cloth->obstacle) continue;
       for (Eigen::Index v = 0; v < cloth->x1.rows(); ++v) {
@@ -186,7 +197,12 @@ InsideReport push_out_of_obstacles(const std::vector<CollisionMesh*>& meshes, do
           continue;
         const Vec3 p = cloth->x1.row(v).transpose();
         if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
-        if (pieces.empty()) pieces = pieces_of(*obstacle);
+        if (!looked) {
+          looked = true;
+          closed = closed_and_oriented(obstacle->faces);
+          if (closed) pieces = pieces_of(*obstacle);
+        }
+        if (!closed) break;
         if (!inside_any(*obstacle, pieces, p)) continue;
         SurfacePoint s = closest_surface_point(*obstacle, p);
         if (pieces.size() > 1 && inside_any(*obstacle, pieces, s.point + offset * s.normal))
