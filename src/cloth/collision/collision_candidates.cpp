@@ -26,6 +26,17 @@ PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
 constexpr int kParallelFaces = 2000;              // faces of a query's smaller tree
 constexpr std::size_t kParallelFacePairs = 4000;  // face pairs whose primitive pairs are made
 
+// The bits of a RestNeighbours mask that primitive_pairs tests for faces owning `va`, `ea`
+// (first face) and `vb`, `eb` (second face) of their corners and edges: face pairs whose every
+// such pair is a rest neighbour make no candidate.
+std::uint16_t owned_bits(std::uint8_t va, std::uint8_t ea, std::uint8_t vb, std::uint8_t eb) {
+  auto bits = static_cast<std::uint16_t>((va & 0x7u) | ((vb & 0x7u) << 3));
+  for (int i = 0; i < 3; ++i)
+    if (ea & (1u << i))
+      bits |= static_cast<std::uint16_t>((eb & 0x7u) << RestNeighbours::edge_edge_bit(i, 0));
+  return bits;
+}
+
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
   return e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1];
 }
@@ -212,7 +223,14 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
   for (std::size_t k = first; k < end; ++k) {
     const FacePair& fp = m_face_pairs[k];
     const std::uint16_t mask = rest ? rest->mask(fp.a, fp.b) : std::uint16_t{0};
-    if (mask == RestNeighbours::kAll) continue;
+    if (mask != 0) {
+      const std::uint16_t owned = owned_bits(
+          ta.owned_vertices[static_cast<std::size_t>(fp.a)],
+          ta.owned_edges[static_cast<std::size_t>(fp.a)],
+          tb.owned_vertices[static_cast<std::size_t>(fp.b)],
+          tb.owned_edges[static_cast<std::size_t>(fp.b)]);
+      if ((mask & owned) == owned) continue;
+    }
     vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b, mask,
                 RestNeighbours::vertex_face_bit(false, 0));
     vertex_face(B, tb, vbb, mb, fp.b, A, fba, ma, fp.a, mask,

@@ -25,11 +25,18 @@ double rest_edge_edge_distance(const Points& rest, const std::array<int, 2>& e,
 
 std::uint16_t RestNeighbours::mask(int f, int g) const {
   if (m_start.empty()) return 0;
-  const auto first = m_entries.begin() + m_start[static_cast<std::size_t>(f)];
-  const auto last = m_entries.begin() + m_start[static_cast<std::size_t>(f) + 1];
-  const auto it =
-      std::lower_bound(first, last, g, [](const Entry& e, int face) { return e.face < face; });
-  return it != last && it->face == g ? it->mask : std::uint16_t{0};
+  const int first = m_start[static_cast<std::size_t>(f)];
+  int count = m_start[static_cast<std::size_t>(f) + 1] - first;
+  if (count == 0) return 0;
+  // Binary search without branches on the data (the proximity search's hottest lookup): the
+  // last entry not above g.
+  const int* base = m_face.data() + first;
+  while (count > 1) {
+    const int half = count / 2;
+    base = base[half] <= g ? base + half : base;
+    count -= half;
+  }
+  return *base == g ? m_mask[static_cast<std::size_t>(base - m_face.data())] : std::uint16_t{0};
 }
 
 void RestNeighbours::build(const Points& rest, const Triangles& faces, const MeshTopology& topology,
@@ -58,6 +65,10 @@ void RestNeighbours::build(const Points& rest, const Triangles& faces, const Mes
     }
     return bits;
   };
+  struct Entry {
+    int face{};
+    std::uint16_t mask{};
+  };
   std::vector<std::vector<Entry>> lists(static_cast<std::size_t>(faces.rows()));
   for (const FacePair& p : pairs) {
     std::uint16_t ab = vertex_face(p.a, p.b, false) | vertex_face(p.b, p.a, true);
@@ -82,11 +93,15 @@ void RestNeighbours::build(const Points& rest, const Triangles& faces, const Mes
     lists[static_cast<std::size_t>(p.b)].push_back({p.a, ba});
   }
   m_start.assign(1, 0);
-  m_entries.clear();
+  m_face.clear();
+  m_mask.clear();
   for (std::vector<Entry>& l : lists) {
     std::sort(l.begin(), l.end(), [](const Entry& x, const Entry& y) { return x.face < y.face; });
-    m_entries.insert(m_entries.end(), l.begin(), l.end());
-    m_start.push_back(static_cast<int>(m_entries.size()));
+    for (const Entry& e : l) {
+      m_face.push_back(e.face);
+      m_mask.push_back(e.mask);
+    }
+    m_start.push_back(static_cast<int>(m_face.size()));
   }
 }
 

@@ -38,13 +38,10 @@ class RestNeighbours {
   std::uint16_t mask(int f, int g) const;
 
  private:
-  struct Entry {
-    int face{};
-    std::uint16_t mask{};
-  };
   double m_distance{};
-  std::vector<int> m_start;      // |F|+1: face f's entries at m_entries[m_start[f] ..]
-  std::vector<Entry> m_entries;  // sorted by face within each face's range
+  std::vector<int> m_start;  // |F|+1: face f's entries at [m_start[f], m_start[f + 1])
+  std::vector<int> m_face;   // the other face of each entry, sorted within each face's range
+  std::vector<std::uint16_t> m_mask;  // the mask of each entry
 };
 
 }  // namespace dexcloth::collision
