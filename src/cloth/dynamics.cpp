@@ -81,69 +81,139 @@ DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
 namespace {
 
 /// Adds c·H (element Hessian, n vertices) into the system blocks and h·(−g − (h + β)·H·v_e) into
-/// the right-hand side.
+/// the right-hand side, only the rows and blocks that `part` owns.
 template <int N>
 void scatter(const std::array<int, N * N>& block_of, const std::array<int, N>& verts,
              const Eigen::Matrix<double, 3 * N, 1>& grad,
              const Eigen::Matrix<double, 3 * N, 3 * N>& hess, const Points& v, double c_stiff,
-             double c_rhs_force, double c_rhs_damp, DynamicsWorkspace& ws) {
+             double c_rhs_force, double c_rhs_damp, const AssemblyPart& part,
+             DynamicsWorkspace& ws) {
   Eigen::Matrix<double, 3 * N, 1> ve;
   for (int a = 0; a < N; ++a)
     ve.template segment<3>(3 * a) = v.row(verts[static_cast<std::size_t>(a)]).transpose();
   const Eigen::Matrix<double, 3 * N, 1> r = -c_rhs_force * grad - c_rhs_damp * (hess * ve);
   for (int a = 0; a < N; ++a) {
-    ws.rhs.template segment<3>(3 * verts[static_cast<std::size_t>(a)]) +=
-        r.template segment<3>(3 * a);
+    const int i = verts[static_cast<std::size_t>(a)];
+    if (i >= part.first_vertex && i < part.end_vertex)
+      ws.rhs.template segment<3>(3 * i) += r.template segment<3>(3 * a);
     for (int b = 0; b < N; ++b) {
-      ws.blocks[static_cast<std::size_t>(block_of[static_cast<std::size_t>(N * a + b)])] +=
-          c_stiff * hess.template block<3, 3>(3 * a, 3 * b);
+      const int k = block_of[static_cast<std::size_t>(N * a + b)];
+      if (k >= part.first_block && k < part.end_block)
+        ws.blocks[static_cast<std::size_t>(k)] += c_stiff * hess.template block<3, 3>(3 * a, 3 * b);
     }
   }
 }
 
-/// Assembles A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) into the workspace.
-void assemble(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
-              DynamicsWorkspace& ws) {
+/// The assembly of A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) (assemble) that
+/// `part` owns. Each entry gets its terms in the serial assembly's order: faces, hinges, mass.
+void assemble_part(const ClothModel& model, const ClothState& state, double h,
+                   const Vec3& gravity, const AssemblyPart& part, DynamicsWorkspace& ws) {
   const double beta = model.material.damping;
   const double c_stiff = h * h + h * beta;
   const double c_damp = h * (h + beta);
-  std::fill(ws.blocks.begin(), ws.blocks.end(), Mat3::Zero());
-  ws.rhs.setZero();
+  std::fill(ws.blocks.begin() + part.first_block, ws.blocks.begin() + part.end_block,
+            Mat3::Zero());
+  ws.rhs.segment(3 * part.first_vertex, 3 * (part.end_vertex - part.first_vertex)).setZero();
 
   // Stretching, per face.
   Vec9 g9;
   Mat9 H9;
-  for (int f = 0; f < model.faces.rows(); ++f) {
+  for (int f : part.faces) {
     const std::array<int, 3> vs = {model.faces(f, 0), model.faces(f, 1), model.faces(f, 2)};
     stretch_gradient_hessian_psd(
         state.x.row(vs[0]).transpose(), state.x.row(vs[1]).transpose(),
         state.x.row(vs[2]).transpose(), model.Dm_inv[static_cast<std::size_t>(f)],
         model.rest_area[static_cast<std::size_t>(f)], model.stretch, g9, H9);
     scatter<3>(model.pattern.face_blocks[static_cast<std::size_t>(f)], vs, g9, H9, state.v, c_stiff,
-               h, c_damp, ws);
+               h, c_damp, part, ws);
   }
 
   // Bending, per hinge.
   Vec12 g12;
   Mat12 H12;
   if (model.bending_k > 0.0) {
-    for (std::size_t e = 0; e < model.hinges.size(); ++e) {
-      const Hinge& hg = model.hinges[e];
+    for (int e : part.hinges) {
+      const Hinge& hg = model.hinges[static_cast<std::size_t>(e)];
       bending_gradient_hessian_psd(
           state.x.row(hg.v[0]).transpose(), state.x.row(hg.v[1]).transpose(),
           state.x.row(hg.v[2]).transpose(), state.x.row(hg.v[3]).transpose(), hg.rest_angle,
           hg.weight, model.bending_k, g12, H12);
-      scatter<4>(model.pattern.hinge_blocks[e], hg.v, g12, H12, state.v, c_stiff, h, c_damp, ws);
+      scatter<4>(model.pattern.hinge_blocks[static_cast<std::size_t>(e)], hg.v, g12, H12, state.v,
+                 c_stiff, h, c_damp, part, ws);
     }
   }
 
   // Mass, gravity and external forces.
-  for (int i = 0; i < model.num_vertices(); ++i) {
+  for (int i = part.first_vertex; i < part.end_vertex; ++i) {
     const double m = model.mass[i];
     ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(i)])]
         .diagonal()
         .array() += m;
     ws.rhs.segment<3>(3 * i) += h * (state.f_ext.row(i).transpose() + m * gravity);
+  }
+}
+
+// Cloths with fewer faces are assembled on one thread (waking workers costs more).
+constexpr int kParallelAssemblyFaces = 2000;
+
+/// Splits the assembly into `threads` parts of consecutive vertices with about as many blocks
+/// each (a block (i, j) belongs to its column j's part).
+void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws) {
+  const SystemPattern& p = model.pattern;
+  const int nv = model.num_vertices();
+  ws.assembly_parts.assign(static_cast<std::size_t>(threads), AssemblyPart{});
+  std::vector<int> part_of(static_cast<std::size_t>(nv));
+  int v = 0;
+  for (int t = 0; t < threads; ++t) {
+    AssemblyPart& part = ws.assembly_parts[static_cast<std::size_t>(t)];
+    const auto blocks_before = static_cast<int>(
+        static_cast<long long>(p.num_blocks()) * (t + 1) / threads);
+    part.first_vertex = v;
+    while (v < nv && (t + 1 == threads || p.col_start[static_cast<std::size_t>(v)] < blocks_before))
+      part_of[static_cast<std::size_t>(v++)] = t;
+    part.end_vertex = v;
+    part.first_block = p.col_start[static_cast<std::size_t>(part.first_vertex)];
+    part.end_block = p.col_start[static_cast<std::size_t>(part.end_vertex)];
+  }
+  // Each element goes to every part owning one of its vertices, in element order.
+  const auto add = [&](std::vector<int> AssemblyPart::*list, int element,
+                       std::span<const int> verts) {
+    int last = -1;
+    std::array<int, 4> parts{};
+    int count = 0;
+    for (int i : verts) parts[static_cast<std::size_t>(count++)] = part_of[static_cast<std::size_t>(i)];
+    std::sort(parts.begin(), parts.begin() + count);
+    for (int k = 0; k < count; ++k) {
+      if (parts[static_cast<std::size_t>(k)] == last) continue;
+      last = parts[static_cast<std::size_t>(k)];
+      (ws.assembly_parts[static_cast<std::size_t>(last)].*list).push_back(element);
+    }
+  };
+  for (int f = 0; f < model.faces.rows(); ++f) {
+    const std::array<int, 3> vs = {model.faces(f, 0), model.faces(f, 1), model.faces(f, 2)};
+    add(&AssemblyPart::faces, f, vs);
+  }
+  for (std::size_t e = 0; e < model.hinges.size(); ++e)
+    add(&AssemblyPart::hinges, static_cast<int>(e), model.hinges[e].v);
+}
+
+/// Assembles A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) into the workspace, on the
+/// model's threads for a large cloth. Every entry sums the same terms in the same order on any
+/// number of threads, so the system is bitwise the same.
+void assemble(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
+              DynamicsWorkspace& ws) {
+  const int threads = model.faces.rows() >= kParallelAssemblyFaces ? model.solver.threads : 1;
+  if (static_cast<int>(ws.assembly_parts.size()) != threads) {
+    split_assembly(model, threads, ws);
+    ws.assembly_pool = threads > 1 ? std::make_unique<WorkerPool>(threads) : nullptr;
+  }
+  auto part = [&](int t) {
+    assemble_part(model, state, h, gravity, ws.assembly_parts[static_cast<std::size_t>(t)], ws);
+  };
+  if (ws.assembly_pool) {
+    ws.assembly_pool->run(part);
+  } else {
+    part(0);
   }
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 /// Internal to the dynamics: the buffers of the implicit step, allocated on the first step.
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -7,6 +8,7 @@
 #include "cloth/dynamics.hpp"
 #include "cloth/sparse_cholesky.hpp"
 #include "core/types.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::cloth {
 
@@ -20,6 +22,15 @@ struct DirectSystem {
   std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
   std::vector<double> values;  ///< gathered values
   SparseCholesky cholesky;
+};
+
+/// One thread's part of the assembly: the rows of the right-hand side of vertices
+/// [first_vertex, end_vertex), the blocks of their columns [first_block, end_block), and the
+/// elements that touch those vertices (an element across two parts is evaluated by both).
+struct AssemblyPart {
+  int first_vertex{}, end_vertex{};
+  int first_block{}, end_block{};
+  std::vector<int> faces, hinges;  ///< in increasing order, as the serial assembly visits them
 };
 
 /// Buffers of solve_velocities (see dynamics.cpp). Sized for one model on the first step.
@@ -57,6 +68,9 @@ struct DynamicsWorkspace {
   std::vector<Mat3> schur_frame;
   Eigen::MatrixXd schur_Syy, schur_X;
   Eigen::VectorXd schur_cy, schur_xr, schur_tail;
+  // Assembly on several threads (none for one).
+  std::vector<AssemblyPart> assembly_parts;
+  std::unique_ptr<WorkerPool> assembly_pool;
   // Iterative solver.
   bool pcg_ready{false};
   BlockPcg pcg;
