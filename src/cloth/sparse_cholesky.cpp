@@ -343,8 +343,9 @@ int SparseCholesky::factor_front(int s, std::span<const double> values, double* 
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
   double* P = m_panel.data() + m_panel_start[at(s)];
   // The front: this supernode's columns of A, ...
+  // (Of the update matrices only the lower triangles are written and read.)
   std::fill(P, P + at(f) * at(w), 0.0);
-  std::fill(U, U + at(b) * at(b), 0.0);
+  for (int q = 0; q < b; ++q) std::fill(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), 0.0);
   for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
     P[m_entries[k].offset] += values[at(m_entries[k].entry)];
   // ... and the extend-add of its children's update matrices (lower triangles).
@@ -371,7 +372,9 @@ int SparseCholesky::factor_front(int s, std::span<const double> values, double* 
   if (b > 0) {
     dtrsm_("R", "L", "T", "N", &b, &w, &one, P, &f, P + w, &f, 1, 1, 1, 1);
     dsyrk_("L", "N", &b, &w, &minus_one, P + w, &f, &one, U, &b, 1, 1);
-    std::copy(U, U + at(b) * at(b), m_stack.data() + m_stack_offset[at(s)]);
+    double* stacked = m_stack.data() + m_stack_offset[at(s)];
+    for (int q = 0; q < b; ++q)
+      std::copy(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), stacked + at(q) * at(b) + at(q));
   }
   return -1;
 }
