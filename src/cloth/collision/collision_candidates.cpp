@@ -1,6 +1,7 @@
 #include "cloth/collision/collision_candidates.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "core/assert.hpp"
 
@@ -25,6 +26,8 @@ PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
 // Below these sizes a search runs on the calling thread (waking the pool costs tens of µs).
 constexpr int kParallelFaces = 2000;              // faces of a query's smaller tree
 constexpr std::size_t kParallelFacePairs = 4000;  // face pairs whose primitive pairs are made
+// Pieces of a threaded face query per thread (enough for the threads to even out).
+constexpr int kPiecesPerThread = 32;
 
 // The bits of a RestNeighbours mask that primitive_pairs tests for faces owning `va`, `ea`
 // (first face) and `vb`, `eb` (second face) of their corners and edges: face pairs whose every
@@ -129,16 +132,18 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   const Bvh& ta = m_bvh[static_cast<std::size_t>(ma)];
   const Bvh& tb = m_bvh[static_cast<std::size_t>(mb)];
   const bool self = ma == mb;
-  // Overlapping faces: the query in pieces shared round-robin among the threads, their pairs
-  // concatenated in the pieces' order (the order of the whole query). A small query runs on
-  // the calling thread: waking the pool costs more than it does.
+  // Overlapping faces: the query in pieces, each taken by the next free thread (their work is
+  // far from even: a sheet's self query is mostly in the pieces within one half, little in those
+  // between halves; handed out round-robin, one of two threads did three quarters of it), their
+  // pairs concatenated in the pieces' order (the order of the whole query, whichever thread ran
+  // a piece). A small query runs on the calling thread: waking the pool costs more than it does.
   const int query_faces = self ? ta.num_faces() : std::min(ta.num_faces(), tb.num_faces());
   const int threads = m_pool && query_faces >= kParallelFaces ? m_pool->threads() : 1;
-  split_query(ta, tb, self, threads > 1 ? 8 * threads : 1, m_queries);
+  split_query(ta, tb, self, threads > 1 ? kPiecesPerThread * threads : 1, m_queries);
   if (m_piece_pairs.size() < m_queries.size()) m_piece_pairs.resize(m_queries.size());
-  auto find_faces = [&](int t) {
-    for (std::size_t k = static_cast<std::size_t>(t); k < m_queries.size();
-         k += static_cast<std::size_t>(threads)) {
+  std::atomic<std::size_t> next_piece{0};
+  auto find_faces = [&](int) {
+    for (std::size_t k = next_piece++; k < m_queries.size(); k = next_piece++) {
       m_piece_pairs[k].clear();
       run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
     }
