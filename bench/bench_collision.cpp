@@ -2,7 +2,8 @@
 /// strain limiting, impact zones) for a sheet over a tessellated sphere at about 2k, 8k and 32k
 /// triangles, in two states where little happens: falling freely 2 cm above the sphere, and
 /// resting on it within the repulsion thickness. Every iteration restarts from the same state.
-/// Run: build/bench/bench_collision  (Release). Counters: ms per step of each phase.
+/// Run: build/bench/bench_collision  (Release). Counters: ms per step of each phase. The searches
+/// run on one thread or, with threads:2, on a pool of two (as a scene's step does).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "cloth/collision/cloth_contacts.hpp"
 #include "cloth/collision/impact_zones.hpp"
 #include "cloth/collision/strain_limit.hpp"
+#include "core/worker_pool.hpp"
 
 namespace {
 
@@ -118,6 +120,7 @@ void BM_SheetOnSphere(benchmark::State& bench) {
   const int n = static_cast<int>(bench.range(0));
   const bool resting = bench.range(1) != 0;
   const double size = 1e-3 * static_cast<double>(bench.range(2));
+  const int threads = static_cast<int>(bench.range(3));
   CollisionMesh sheet = make_sheet(n, kRadius + 0.02, size);
   if (resting) drape(sheet);
   CollisionMesh sphere = make_sphere(16, 8);
@@ -137,6 +140,9 @@ void BM_SheetOnSphere(benchmark::State& bench) {
   zones.offset = 0.03 * kThickness;
   ClothContacts contacts;
   ImpactZoneSolver solver;
+  WorkerPool pool(threads);
+  contacts.candidates.set_pool(threads > 1 ? &pool : nullptr);
+  solver.set_pool(threads > 1 ? &pool : nullptr);
   double t_contacts = 0.0, t_strain = 0.0, t_zones = 0.0;
   int warnings = 0;
   using Clock = std::chrono::steady_clock;
@@ -172,12 +178,12 @@ void BM_SheetOnSphere(benchmark::State& bench) {
 
 // Args: quads per side (2·n² triangles), resting (1) or falling (0), sheet size [mm]: 1 m
 // (edges of 31–7.8 mm, longer than the 5 mm thickness), or 0.3 m at n = 64, pinch_move's sheet
-// (4.8 mm edges, under the thickness: every face has dozens of rest neighbours in reach).
+// (4.8 mm edges, under the thickness: every face has dozens of rest neighbours in reach);
+// threads.
 BENCHMARK(BM_SheetOnSphere)
-    ->ArgsProduct({{32, 64, 128}, {0, 1}, {1000}})
-    ->Args({64, 0, 300})
-    ->Args({64, 1, 300})
-    ->ArgNames({"n", "resting", "size_mm"})
+    ->ArgsProduct({{32, 64, 128}, {0, 1}, {1000}, {1}})
+    ->ArgsProduct({{64}, {0, 1}, {300}, {1, 2}})
+    ->ArgNames({"n", "resting", "size_mm", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0);
 

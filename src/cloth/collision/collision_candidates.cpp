@@ -23,10 +23,10 @@ PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
   return m;
 }
 
-// Below these sizes a search runs on the calling thread (waking the pool costs tens of µs).
-constexpr int kParallelFaces = 2000;              // faces of a query's smaller tree
-constexpr std::size_t kParallelFacePairs = 4000;  // face pairs whose primitive pairs are made
-// Pieces of a threaded face query per thread (enough for the threads to even out).
+// Below this size (faces of a query's smaller tree) a search runs on the calling thread (waking
+// the pool costs tens of µs).
+constexpr int kParallelFaces = 1000;
+// Pieces of a threaded query per thread (enough for the threads to even out).
 constexpr int kPiecesPerThread = 32;
 
 // The bits of a RestNeighbours mask that primitive_pairs tests for faces owning `va`, `ea`
@@ -132,61 +132,44 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   const Bvh& ta = m_bvh[static_cast<std::size_t>(ma)];
   const Bvh& tb = m_bvh[static_cast<std::size_t>(mb)];
   const bool self = ma == mb;
-  // Overlapping faces: the query in pieces, each taken by the next free thread (their work is
-  // far from even: a sheet's self query is mostly in the pieces within one half, little in those
-  // between halves; handed out round-robin, one of two threads did three quarters of it), their
-  // pairs concatenated in the pieces' order (the order of the whole query, whichever thread ran
-  // a piece). A small query runs on the calling thread: waking the pool costs more than it does.
+  // The query in pieces, each taken by the next free thread, which finds its overlapping faces
+  // and makes their primitive pairs; the pieces' pairs are concatenated in the pieces' order
+  // (the order of the whole query, whichever thread ran a piece). The pieces' work is far from
+  // even (a sheet's self query is mostly within halves, little between them: handed out
+  // round-robin, one of two threads did three quarters of pinch_move's). A small query runs on
+  // the calling thread: waking the pool costs more than it does.
   const int query_faces = self ? ta.num_faces() : std::min(ta.num_faces(), tb.num_faces());
   const int threads = m_pool && query_faces >= kParallelFaces ? m_pool->threads() : 1;
   split_query(ta, tb, self, threads > 1 ? kPiecesPerThread * threads : 1, m_queries);
-  if (m_piece_pairs.size() < m_queries.size()) m_piece_pairs.resize(m_queries.size());
-  std::atomic<std::size_t> next_piece{0};
-  auto find_faces = [&](int) {
-    for (std::size_t k = next_piece++; k < m_queries.size(); k = next_piece++) {
-      m_piece_pairs[k].clear();
-      run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
-    }
-  };
-  if (threads > 1) {
-    m_pool->run(find_faces);
-  } else {
-    find_faces(0);
-  }
-  m_face_pairs.clear();
-  for (std::size_t k = 0; k < m_queries.size(); ++k)
-    m_face_pairs.insert(m_face_pairs.end(), m_piece_pairs[k].begin(), m_piece_pairs[k].end());
-
-  // Their primitive pairs: the face pairs in consecutive chunks, likewise (few on one thread).
-  const std::size_t n = m_face_pairs.size();
-  const int pair_threads = m_pool && n >= kParallelFacePairs ? m_pool->threads() : 1;
-  const auto pieces = static_cast<std::size_t>(4 * pair_threads);
-  if (m_piece_vf.size() < pieces) {
+  const std::size_t pieces = m_queries.size();
+  if (m_piece_pairs.size() < pieces) {
+    m_piece_pairs.resize(pieces);
     m_piece_vf.resize(pieces);
     m_piece_ee.resize(pieces);
   }
-  auto find_primitives = [&](int t) {
-    for (std::size_t c = static_cast<std::size_t>(t); c < pieces;
-         c += static_cast<std::size_t>(pair_threads)) {
-      m_piece_vf[c].clear();
-      m_piece_ee[c].clear();
-      primitive_pairs(meshes, ma, mb, n * c / pieces, n * (c + 1) / pieces, m_piece_vf[c],
-                      m_piece_ee[c]);
+  std::atomic<std::size_t> next_piece{0};
+  auto find = [&](int) {
+    for (std::size_t k = next_piece++; k < pieces; k = next_piece++) {
+      m_piece_pairs[k].clear();
+      run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
+      m_piece_vf[k].clear();
+      m_piece_ee[k].clear();
+      primitive_pairs(meshes, ma, mb, m_piece_pairs[k], m_piece_vf[k], m_piece_ee[k]);
     }
   };
-  if (pair_threads > 1) {
-    m_pool->run(find_primitives);
+  if (threads > 1) {
+    m_pool->run(find);
   } else {
-    find_primitives(0);
+    find(0);
   }
-  for (std::size_t c = 0; c < pieces; ++c) {
-    m_vf.insert(m_vf.end(), m_piece_vf[c].begin(), m_piece_vf[c].end());
-    m_ee.insert(m_ee.end(), m_piece_ee[c].begin(), m_piece_ee[c].end());
+  for (std::size_t k = 0; k < pieces; ++k) {
+    m_vf.insert(m_vf.end(), m_piece_vf[k].begin(), m_piece_vf[k].end());
+    m_ee.insert(m_ee.end(), m_piece_ee[k].begin(), m_piece_ee[k].end());
   }
 }
 
 void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*>& meshes, int ma,
-                                          int mb, std::size_t first, std::size_t end,
+                                          int mb, const std::vector<FacePair>& face_pairs,
                                           std::vector<VertexFacePair>& vf,
                                           std::vector<EdgeEdgePair>& ee) const {
   const CollisionMesh& A = *meshes[static_cast<std::size_t>(ma)];
@@ -225,8 +208,7 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
     }
   };
 
-  for (std::size_t k = first; k < end; ++k) {
-    const FacePair& fp = m_face_pairs[k];
+  for (const FacePair& fp : face_pairs) {
     const std::uint16_t mask = rest ? rest->mask(fp.a, fp.b) : std::uint16_t{0};
     if (mask != 0) {
       const std::uint16_t owned = owned_bits(

@@ -66,9 +66,9 @@ class CollisionCandidates {
 
  private:
   void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb);
-  /// The vertex–face and edge–edge pairs of face pairs [first, end) of m_face_pairs.
+  /// Appends the vertex–face and edge–edge pairs of `face_pairs` (of meshes ma, mb).
   void primitive_pairs(const std::vector<const CollisionMesh*>& meshes, int ma, int mb,
-                       std::size_t first, std::size_t end, std::vector<VertexFacePair>& vf,
+                       const std::vector<FacePair>& face_pairs, std::vector<VertexFacePair>& vf,
                        std::vector<EdgeEdgePair>& ee) const;
 
   /// Mesh m's rest neighbours at the distance set, or null (none set, or not a cloth).
@@ -78,7 +78,8 @@ class CollisionCandidates {
   double m_rest_distance{};
   std::vector<RestNeighbours> m_rest;  // per mesh
   std::vector<BvhQuery> m_queries;                          // pieces of a face-pair query
-  std::vector<std::vector<FacePair>> m_piece_pairs;         // each piece's face pairs
+  // Each piece's face pairs and their primitive pairs.
+  std::vector<std::vector<FacePair>> m_piece_pairs;
   std::vector<std::vector<VertexFacePair>> m_piece_vf;
   std::vector<std::vector<EdgeEdgePair>> m_piece_ee;
   std::vector<MeshTopology> m_topology;
@@ -86,7 +87,6 @@ class CollisionCandidates {
   std::vector<std::vector<PrimitiveBox>> m_vertex_boxes;  // per mesh, per vertex
   std::vector<std::vector<PrimitiveBox>> m_edge_boxes;    // per mesh, per topology edge
   std::vector<std::vector<PrimitiveBox>> m_face_boxes;    // per mesh, per face
-  std::vector<FacePair> m_face_pairs;
   std::vector<VertexFacePair> m_vf;
   std::vector<EdgeEdgePair> m_ee;
 };
