@@ -56,7 +56,7 @@ struct FrameLog {
 int count_intersections(coupling::WorldData& data) {
   std::vector<const collision::CollisionMesh*> meshes;
   for (const collision::CollisionMesh& m : data.meshes) meshes.push_back(&m);
-  return collision::count_intersections(meshes, /*use_x1=*/true);
+  return collision::count_intersections(meshes, /*use_x1=*/true, data.pool.get());
 }
 
 void record_frame(const scene::CompiledScene& compiled, coupling::WorldData& data,

@@ -1,6 +1,7 @@
 #include "cloth/collision/intersection.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "cloth/collision/bvh.hpp"
 #include "cloth/collision/predicates.hpp"
@@ -79,30 +80,49 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
          segment_intersects_triangle(b2, b0, a0, a1, a2);
 }
 
-int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1) {
+int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
+                        WorkerPool* pool) {
   const std::size_t nm = meshes.size();
   std::vector<Bvh> bvhs(nm);
   for (std::size_t m = 0; m < nm; ++m) {
     const Points& x = use_x1 ? meshes[m]->x1 : meshes[m]->x0;
     bvhs[m].build(meshes[m]->faces, x, x, 0.0);
   }
-  int count = 0;
-  std::vector<FacePair> pairs;
+  // Searches of fewer faces (the smaller tree's) run on the calling thread.
+  constexpr int kParallelFaces = 1000;
+  std::atomic<int> count{0};
+  std::vector<BvhQuery> queries;
   for (std::size_t i = 0; i < nm; ++i) {
     for (std::size_t j = i; j < nm; ++j) {
       const CollisionMesh& mi = *meshes[i];
       const CollisionMesh& mj = *meshes[j];
       if (mi.obstacle && mj.obstacle) continue;
       if (i == j && !mi.self_collision) continue;
-      pairs.clear();
-      if (i == j) self_overlapping_faces(bvhs[i], mi.faces, true, pairs);
-      else overlapping_faces(bvhs[i], bvhs[j], pairs);
       const Points& xi = use_x1 ? mi.x1 : mi.x0;
       const Points& xj = use_x1 ? mj.x1 : mj.x0;
-      for (const FacePair& fp : pairs) {
-        auto pi = [&](int k) { return Vec3(xi.row(mi.faces(fp.a, k))); };
-        auto pj = [&](int k) { return Vec3(xj.row(mj.faces(fp.b, k))); };
-        if (triangles_intersect(pi(0), pi(1), pi(2), pj(0), pj(1), pj(2))) ++count;
+      const int faces = std::min(bvhs[i].num_faces(), bvhs[j].num_faces());
+      const int threads = pool && faces >= kParallelFaces ? pool->threads() : 1;
+      split_query(bvhs[i], bvhs[j], i == j, threads > 1 ? 32 * threads : 1, queries);
+      // Pieces to whichever thread is free; the count is a sum, the same in any order.
+      std::atomic<std::size_t> next{0};
+      auto search = [&](int) {
+        std::vector<FacePair> pairs;
+        int found = 0;
+        for (std::size_t k = next++; k < queries.size(); k = next++) {
+          pairs.clear();
+          run_query(bvhs[i], bvhs[j], queries[k], i == j ? &mi.faces : nullptr, pairs);
+          for (const FacePair& fp : pairs) {
+            auto pi = [&](int c) { return Vec3(xi.row(mi.faces(fp.a, c))); };
+            auto pj = [&](int c) { return Vec3(xj.row(mj.faces(fp.b, c))); };
+            if (triangles_intersect(pi(0), pi(1), pi(2), pj(0), pj(1), pj(2))) ++found;
+          }
+        }
+        count += found;
+      };
+      if (threads > 1) {
+        pool->run(search);
+      } else {
+        search(0);
       }
     }
   }

@@ -5,6 +5,7 @@
 
 #include "cloth/collision/collision_mesh.hpp"
 #include "core/types.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
 
@@ -21,7 +22,8 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
 /// Number of intersecting triangle pairs at x0 (`use_x1` false) or x1 (`use_x1` true): within
 /// each cloth mesh with self-collision on (pairs sharing a vertex are skipped), between cloth
 /// meshes, and between cloth and obstacle meshes; obstacle–obstacle pairs are ignored. Builds its
-/// own BVHs (diagnostic use).
-int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1);
+/// own BVHs (diagnostic use). With a `pool`, large searches run on its threads (same count).
+int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
+                        WorkerPool* pool = nullptr);
 
 }  // namespace dexcloth::collision

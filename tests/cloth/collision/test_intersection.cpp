@@ -118,3 +118,42 @@ TEST(CountIntersections, SharedEdgeIsNotCountedButAFoldThroughIs) {
   tri.faces << 4, 5, 3;
   EXPECT_EQ(count_intersections({&cloth, &tri}, true), 1);
 }
+
+namespace {
+
+/// A 40×40-quad sheet (3,200 faces) of side 1 m in the plane through `centre` spanned by `u`, `v`.
+CollisionMesh crossing_sheet(const Vec3& centre, const Vec3& u, const Vec3& v) {
+  const int n = 40;
+  CollisionMesh m;
+  m.x0.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      m.x0.row(j * (n + 1) + i) =
+          (centre + (i / double(n) - 0.5) * u + (j / double(n) - 0.5) * v).transpose();
+  m.x1 = m.x0;
+  m.faces.resize(2 * n * n, 3);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.faces.row(2 * (j * n + i)) << a, b, d;
+      m.faces.row(2 * (j * n + i) + 1) << a, d, c;
+    }
+  m.mass = Eigen::VectorXd::Ones(m.x0.rows());
+  return m;
+}
+
+}  // namespace
+
+TEST(CountIntersections, OnAPoolTheCountIsTheSame) {
+  // Two large sheets crossing along a line: the pool's threads must count exactly the pairs one
+  // thread counts.
+  CollisionMesh a = crossing_sheet(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY());
+  CollisionMesh b = crossing_sheet(Vec3(0.013, 0.007, 0.0), Vec3::UnitX(), Vec3(0, 0.6, 0.8));
+  const std::vector<const CollisionMesh*> meshes{&a, &b};
+  const int serial = count_intersections(meshes, false);
+  ASSERT_GT(serial, 40);
+  for (int threads : {2, 3}) {
+    WorkerPool pool(threads);
+    EXPECT_EQ(count_intersections(meshes, false, &pool), serial) << threads << " threads";
+  }
+}
