@@ -30,19 +30,14 @@ using Index = std::size_t;
 
 Index at(int i) { return static_cast<Index>(i); }
 
-/// Elimination tree and the off-diagonal count of every column of L, from the upper pattern:
-/// row k of L is the set of columns reachable in the tree from the nonzeros A(i, k), i < k.
-/// `ancestor` and `flag` are scratch.
-void etree_and_counts(int n, std::span<const int> col_start, std::span<const int> row,
-                      std::vector<int>& parent, std::vector<int>& count, std::vector<int>& ancestor,
-                      std::vector<int>& flag) {
+/// Elimination tree (Liu's algorithm, path compression through `ancestor`) of the upper
+/// pattern (column k: rows i ≤ k).
+void elimination_tree(int n, std::span<const int> col_start, std::span<const int> row,
+                      std::vector<int>& parent, std::vector<int>& ancestor) {
   ancestor.assign(at(n), -1);
-  flag.assign(at(n), -1);
   parent.assign(at(n), -1);
-  count.assign(at(n), 0);
   for (int k = 0; k < n; ++k) {
     for (int p = col_start[at(k)]; p < col_start[at(k) + 1]; ++p) {
-      // Tree (Liu's algorithm, with path compression through `ancestor`).
       for (int i = row[at(p)]; i != -1 && i < k;) {
         const int next = ancestor[at(i)];
         ancestor[at(i)] = k;
@@ -50,14 +45,78 @@ void etree_and_counts(int n, std::span<const int> col_start, std::span<const int
         i = next;
       }
     }
-    // Row k's pattern: the columns on the paths from its nonzeros up to k.
-    flag[at(k)] = k;
-    for (int p = col_start[at(k)]; p < col_start[at(k) + 1]; ++p)
-      for (int i = row[at(p)]; flag[at(i)] != k; i = parent[at(i)]) {
-        ++count[at(i)];
-        flag[at(i)] = k;
-      }
   }
+}
+
+/// The off-diagonal count of every column of L, in time close to A's size (Gilbert, Ng &
+/// Peyton 1994, as in Davis's CSparse): row i of L is the row subtree of the etree spanned by
+/// the columns j < i with A(i, j) ≠ 0, and summing, up the tree, +1 at each leaf of a row
+/// subtree and −1 where two of its leaves' paths meet (their least common ancestor, by
+/// path-compressed union–find over a postorder) counts every row subtree that holds a column.
+/// `lower_start`/`lower_row`: A's lower pattern by column (rows i ≥ j of column j).
+void column_counts(int n, const std::vector<int>& parent, const std::vector<int>& lower_start,
+                   const std::vector<int>& lower_row, std::vector<int>& count) {
+  // A postorder of the etree: children lists, then a depth-first walk from each root.
+  std::vector<int> head(at(n), -1), next(at(n), -1), post;
+  post.reserve(at(n));
+  for (int j = n - 1; j >= 0; --j)
+    if (parent[at(j)] >= 0) {
+      next[at(j)] = head[at(parent[at(j)])];
+      head[at(parent[at(j)])] = j;
+    }
+  std::vector<int> stack;
+  for (int root = 0; root < n; ++root) {
+    if (parent[at(root)] >= 0) continue;
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int j = stack.back();
+      const int child = head[at(j)];
+      if (child == -1) {
+        stack.pop_back();
+        post.push_back(j);
+      } else {
+        head[at(j)] = next[at(child)];
+        stack.push_back(child);
+      }
+    }
+  }
+  // first[j]: the postorder index of j's first descendant; a leaf is its own.
+  std::vector<int> first(at(n), -1), max_first(at(n), -1), prev_leaf(at(n), -1), ancestor(at(n));
+  std::vector<int>& delta = count;
+  delta.assign(at(n), 0);
+  for (int k = 0; k < n; ++k) {
+    int j = post[at(k)];
+    delta[at(j)] = first[at(j)] == -1 ? 1 : 0;
+    for (; j != -1 && first[at(j)] == -1; j = parent[at(j)]) first[at(j)] = k;
+  }
+  for (int i = 0; i < n; ++i) ancestor[at(i)] = i;
+  for (int k = 0; k < n; ++k) {
+    const int j = post[at(k)];
+    if (parent[at(j)] != -1) --delta[at(parent[at(j)])];
+    for (int p = lower_start[at(j)]; p < lower_start[at(j) + 1]; ++p) {
+      const int i = lower_row[at(p)];
+      // Is j a leaf of row i's subtree (no earlier column of it below j)?
+      if (i <= j || first[at(j)] <= max_first[at(i)]) continue;
+      max_first[at(i)] = first[at(j)];
+      const int previous = prev_leaf[at(i)];
+      prev_leaf[at(i)] = j;
+      ++delta[at(j)];
+      if (previous == -1) continue;
+      // Not the first leaf: the paths of this leaf and the previous one meet at q.
+      int q = previous;
+      while (q != ancestor[at(q)]) q = ancestor[at(q)];
+      for (int s = previous; s != q;) {
+        const int up = ancestor[at(s)];
+        ancestor[at(s)] = q;
+        s = up;
+      }
+      --delta[at(q)];
+    }
+    if (parent[at(j)] != -1) ancestor[at(j)] = parent[at(j)];
+  }
+  for (int j = 0; j < n; ++j)
+    if (parent[at(j)] != -1) count[at(parent[at(j)])] += count[at(j)];
+  for (int j = 0; j < n; ++j) --count[at(j)];  // the diagonal
 }
 
 /// Whether merging supernodes of `columns` columns into one adds few enough explicit zeros:
@@ -88,7 +147,22 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   // size (a few hundred rows) two threads were slower than one (a 65×65 sheet: 62 vs 44 ms).
   openblas_set_num_threads(1);
   std::vector<int> parent, count, mark, position;
-  etree_and_counts(n, col_start, row, parent, count, mark, position);
+  elimination_tree(n, col_start, row, parent, mark);
+  // A's lower pattern by column (with each entry's index in `row`), for the column counts, the
+  // fronts' rows and the assembly map.
+  std::vector<int> lower_start(at(n) + 1, 0), lower_row(row.size()), lower_entry(row.size());
+  for (std::size_t p = 0; p < row.size(); ++p) ++lower_start[at(row[p]) + 1];
+  for (int j = 0; j < n; ++j) lower_start[at(j) + 1] += lower_start[at(j)];
+  {
+    std::vector<int> next(lower_start.begin(), lower_start.end() - 1);
+    for (int j = 0; j < n; ++j)
+      for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p) {
+        const int q = next[at(row[at(p)])]++;
+        lower_row[at(q)] = j;
+        lower_entry[at(q)] = p;
+      }
+  }
+  column_counts(n, parent, lower_start, lower_row, count);
 
   // Fundamental supernodes: j joins j − 1 when it is j − 1's parent, its only child, and L's
   // column j is column j − 1 without its diagonal.
@@ -136,21 +210,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   for (int s = 0; s < ns; ++s) {
     const int p = parent[at(m_first[at(s) + 1] - 1)];
     sparent[at(s)] = p < 0 ? -1 : m_super_of[at(p)];
-  }
-
-  // L's lower pattern by column (with each entry's index in `row`), for the fronts' rows and
-  // the assembly map.
-  std::vector<int> lower_start(at(n) + 1, 0), lower_row(row.size()), lower_entry(row.size());
-  for (std::size_t p = 0; p < row.size(); ++p) ++lower_start[at(row[p]) + 1];
-  for (int j = 0; j < n; ++j) lower_start[at(j) + 1] += lower_start[at(j)];
-  {
-    std::vector<int> next(lower_start.begin(), lower_start.end() - 1);
-    for (int j = 0; j < n; ++j)
-      for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p) {
-        const int q = next[at(row[at(p)])]++;
-        lower_row[at(q)] = j;
-        lower_entry[at(q)] = p;
-      }
   }
 
   // Children lists of the supernodal tree.
