@@ -106,13 +106,12 @@ void scatter(const std::array<int, N * N>& block_of, const std::array<int, N>& v
 
 /// The assembly of A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) (assemble) that
 /// `part` owns. Each entry gets its terms in the serial assembly's order: faces, hinges, mass.
-void assemble_part(const ClothModel& model, const ClothState& state, double h,
-                   const Vec3& gravity, const AssemblyPart& part, DynamicsWorkspace& ws) {
+void assemble_part(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
+                   const AssemblyPart& part, DynamicsWorkspace& ws) {
   const double beta = model.material.damping;
   const double c_stiff = h * h + h * beta;
   const double c_damp = h * (h + beta);
-  std::fill(ws.blocks.begin() + part.first_block, ws.blocks.begin() + part.end_block,
-            Mat3::Zero());
+  std::fill(ws.blocks.begin() + part.first_block, ws.blocks.begin() + part.end_block, Mat3::Zero());
   ws.rhs.segment(3 * part.first_vertex, 3 * (part.end_vertex - part.first_vertex)).setZero();
 
   // Stretching, per face.
@@ -166,8 +165,8 @@ void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws)
   int v = 0;
   for (int t = 0; t < threads; ++t) {
     AssemblyPart& part = ws.assembly_parts[static_cast<std::size_t>(t)];
-    const auto blocks_before = static_cast<int>(
-        static_cast<long long>(p.num_blocks()) * (t + 1) / threads);
+    const auto blocks_before =
+        static_cast<int>(static_cast<long long>(p.num_blocks()) * (t + 1) / threads);
     part.first_vertex = v;
     while (v < nv && (t + 1 == threads || p.col_start[static_cast<std::size_t>(v)] < blocks_before))
       part_of[static_cast<std::size_t>(v++)] = t;
@@ -181,7 +180,8 @@ void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws)
     int last = -1;
     std::array<int, 4> parts{};
     int count = 0;
-    for (int i : verts) parts[static_cast<std::size_t>(count++)] = part_of[static_cast<std::size_t>(i)];
+    for (int i : verts)
+      parts[static_cast<std::size_t>(count++)] = part_of[static_cast<std::size_t>(i)];
     std::sort(parts.begin(), parts.begin() + count);
     for (int k = 0; k < count; ++k) {
       if (parts[static_cast<std::size_t>(k)] == last) continue;

@@ -211,11 +211,10 @@ void CollisionCandidates::primitive_pairs(const std::vector<const CollisionMesh*
   for (const FacePair& fp : face_pairs) {
     const std::uint16_t mask = rest ? rest->mask(fp.a, fp.b) : std::uint16_t{0};
     if (mask != 0) {
-      const std::uint16_t owned = owned_bits(
-          ta.owned_vertices[static_cast<std::size_t>(fp.a)],
-          ta.owned_edges[static_cast<std::size_t>(fp.a)],
-          tb.owned_vertices[static_cast<std::size_t>(fp.b)],
-          tb.owned_edges[static_cast<std::size_t>(fp.b)]);
+      const std::uint16_t owned = owned_bits(ta.owned_vertices[static_cast<std::size_t>(fp.a)],
+                                             ta.owned_edges[static_cast<std::size_t>(fp.a)],
+                                             tb.owned_vertices[static_cast<std::size_t>(fp.b)],
+                                             tb.owned_edges[static_cast<std::size_t>(fp.b)]);
       if ((mask & owned) == owned) continue;
     }
     vertex_face(A, ta, vba, ma, fp.a, B, fbb, mb, fp.b, mask,
