@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 
 #include "cloth/bending.hpp"
 #include "cloth/dynamics_workspace.hpp"
@@ -158,6 +159,7 @@ constexpr int kParallelAssemblyFaces = 2000;
 /// Splits the assembly into `threads` parts of consecutive vertices with about as many blocks
 /// each (a block (i, j) belongs to its column j's part).
 void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws) {
+  DEXCLOTH_DEMAND(threads >= 1 && threads <= 64);
   const SystemPattern& p = model.pattern;
   const int nv = model.num_vertices();
   ws.assembly_parts.assign(static_cast<std::size_t>(threads), AssemblyPart{});
@@ -177,17 +179,11 @@ void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws)
   // Each element goes to every part owning one of its vertices, in element order.
   const auto add = [&](std::vector<int> AssemblyPart::*list, int element,
                        std::span<const int> verts) {
-    int last = -1;
-    std::array<int, 4> parts{};
-    int count = 0;
-    for (int i : verts)
-      parts[static_cast<std::size_t>(count++)] = part_of[static_cast<std::size_t>(i)];
-    std::sort(parts.begin(), parts.begin() + count);
-    for (int k = 0; k < count; ++k) {
-      if (parts[static_cast<std::size_t>(k)] == last) continue;
-      last = parts[static_cast<std::size_t>(k)];
-      (ws.assembly_parts[static_cast<std::size_t>(last)].*list).push_back(element);
-    }
+    std::uint64_t parts = 0;  // bit t: part t owns a vertex (threads ≤ 64)
+    for (int i : verts) parts |= std::uint64_t{1} << part_of[static_cast<std::size_t>(i)];
+    for (int t = 0; t < threads; ++t)
+      if (parts & (std::uint64_t{1} << t))
+        (ws.assembly_parts[static_cast<std::size_t>(t)].*list).push_back(element);
   };
   for (int f = 0; f < model.faces.rows(); ++f) {
     const std::array<int, 3> vs = {model.faces(f, 0), model.faces(f, 1), model.faces(f, 2)};

@@ -3,7 +3,9 @@
 /// collision pass's halves). Workers sleep on a condition variable between tasks, so idle
 /// threads cost nothing on a machine shared with other jobs (OpenMP's spinning waits did), and
 /// running a task allocates nothing.
+#include <atomic>
 #include <condition_variable>
+#include <cstddef>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -41,5 +43,21 @@ class WorkerPool {
   int m_running{};      ///< workers still on the current task
   bool m_stop{};
 };
+
+/// Calls body(k) for k = 0 .. count − 1, each k on whichever of `pool`'s threads is free (for
+/// pieces of uneven work), or all on the calling thread when `pool` is null. Whatever the
+/// threads, each k is called once; results written per k do not depend on them.
+template <typename Body>
+void for_each_index(WorkerPool* pool, std::size_t count, Body body) {
+  if (pool == nullptr) {
+    for (std::size_t k = 0; k < count; ++k) body(k);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  auto task = [&](int) {
+    for (std::size_t k = next++; k < count; k = next++) body(k);
+  };
+  pool->run(task);
+}
 
 }  // namespace dexcloth

@@ -193,6 +193,14 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
   }
 }
 
+WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
+                        std::vector<BvhQuery>& out) {
+  const bool threaded = pool != nullptr && pool->threads() > 1 &&
+                        std::min(a.num_faces(), b.num_faces()) >= kParallelQueryFaces;
+  split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out);
+  return threaded ? pool : nullptr;
+}
+
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
                std::vector<FacePair>& out) {
   if (a.empty() || b.empty()) return;

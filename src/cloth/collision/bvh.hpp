@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
 
@@ -12,6 +13,11 @@ struct FacePair {
   int a{};
   int b{};
 };
+
+/// A threaded query's pieces per thread (enough for uneven pieces to even out) and the smallest
+/// query (faces of its smaller tree) worth threads.
+inline constexpr int kPiecesPerThread = 32;
+inline constexpr int kParallelQueryFaces = 1000;
 
 /// A piece of an overlap query (split_query): the pairs between subtree `i` of the first tree
 /// and subtree `j` of the second, or, for `self`, the unordered pairs within subtree `i`.
@@ -46,6 +52,11 @@ class Bvh {
   /// the pieces' outputs (run_query), concatenated in order, are the whole query's in its order.
   friend void split_query(const Bvh& a, const Bvh& b, bool self, int pieces,
                           std::vector<BvhQuery>& out);
+  /// The same split for running on `pool` (null: one thread): into kPiecesPerThread pieces per
+  /// thread when the query's smaller tree holds kParallelQueryFaces faces or more (waking the
+  /// pool costs tens of µs), else one. Returns the pool to run the pieces on, or null.
+  friend WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
+                                 std::vector<BvhQuery>& out);
   /// Appends the pairs of one piece of a query to `out` (skipping faces adjacent in `faces`
   /// when it is not null, as self_overlapping_faces with skip_adjacent).
   friend void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
@@ -73,6 +84,8 @@ void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out);
 void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out);
+WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
+                        std::vector<BvhQuery>& out);
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
                std::vector<FacePair>& out);
 

@@ -1,7 +1,6 @@
 #include "cloth/collision/collision_candidates.hpp"
 
 #include <algorithm>
-#include <atomic>
 
 #include "core/assert.hpp"
 
@@ -22,12 +21,6 @@ PrimitiveBox merge(const PrimitiveBox& a, const PrimitiveBox& b) {
   }
   return m;
 }
-
-// Below this size (faces of a query's smaller tree) a search runs on the calling thread (waking
-// the pool costs tens of µs).
-constexpr int kParallelFaces = 1000;
-// Pieces of a threaded query per thread (enough for the threads to even out).
-constexpr int kPiecesPerThread = 32;
 
 // The bits of a RestNeighbours mask that primitive_pairs tests for faces owning `va`, `ea`
 // (first face) and `vb`, `eb` (second face) of their corners and edges: face pairs whose every
@@ -136,32 +129,21 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   // and makes their primitive pairs; the pieces' pairs are concatenated in the pieces' order
   // (the order of the whole query, whichever thread ran a piece). The pieces' work is far from
   // even (a sheet's self query is mostly within halves, little between them: handed out
-  // round-robin, one of two threads did three quarters of pinch_move's). A small query runs on
-  // the calling thread: waking the pool costs more than it does.
-  const int query_faces = self ? ta.num_faces() : std::min(ta.num_faces(), tb.num_faces());
-  const int threads = m_pool && query_faces >= kParallelFaces ? m_pool->threads() : 1;
-  split_query(ta, tb, self, threads > 1 ? kPiecesPerThread * threads : 1, m_queries);
+  // round-robin, one of two threads did three quarters of pinch_move's).
+  WorkerPool* pool = split_query(ta, tb, self, m_pool, m_queries);
   const std::size_t pieces = m_queries.size();
   if (m_piece_pairs.size() < pieces) {
     m_piece_pairs.resize(pieces);
     m_piece_vf.resize(pieces);
     m_piece_ee.resize(pieces);
   }
-  std::atomic<std::size_t> next_piece{0};
-  auto find = [&](int) {
-    for (std::size_t k = next_piece++; k < pieces; k = next_piece++) {
-      m_piece_pairs[k].clear();
-      run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
-      m_piece_vf[k].clear();
-      m_piece_ee[k].clear();
-      primitive_pairs(meshes, ma, mb, m_piece_pairs[k], m_piece_vf[k], m_piece_ee[k]);
-    }
-  };
-  if (threads > 1) {
-    m_pool->run(find);
-  } else {
-    find(0);
-  }
+  for_each_index(pool, pieces, [&](std::size_t k) {
+    m_piece_pairs[k].clear();
+    run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
+    m_piece_vf[k].clear();
+    m_piece_ee[k].clear();
+    primitive_pairs(meshes, ma, mb, m_piece_pairs[k], m_piece_vf[k], m_piece_ee[k]);
+  });
   for (std::size_t k = 0; k < pieces; ++k) {
     m_vf.insert(m_vf.end(), m_piece_vf[k].begin(), m_piece_vf[k].end());
     m_ee.insert(m_ee.end(), m_piece_ee[k].begin(), m_piece_ee[k].end());

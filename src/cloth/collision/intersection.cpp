@@ -88,8 +88,6 @@ int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool us
     const Points& x = use_x1 ? meshes[m]->x1 : meshes[m]->x0;
     bvhs[m].build(meshes[m]->faces, x, x, 0.0);
   }
-  // Searches of fewer faces (the smaller tree's) run on the calling thread.
-  constexpr int kParallelFaces = 1000;
   std::atomic<int> count{0};
   std::vector<BvhQuery> queries;
   for (std::size_t i = 0; i < nm; ++i) {
@@ -100,30 +98,20 @@ int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool us
       if (i == j && !mi.self_collision) continue;
       const Points& xi = use_x1 ? mi.x1 : mi.x0;
       const Points& xj = use_x1 ? mj.x1 : mj.x0;
-      const int faces = std::min(bvhs[i].num_faces(), bvhs[j].num_faces());
-      const int threads = pool && faces >= kParallelFaces ? pool->threads() : 1;
-      split_query(bvhs[i], bvhs[j], i == j, threads > 1 ? 32 * threads : 1, queries);
-      // Pieces to whichever thread is free; the count is a sum, the same in any order.
-      std::atomic<std::size_t> next{0};
-      auto search = [&](int) {
+      // Pieces of the search to whichever thread is free; the count is a sum, the same in any
+      // order.
+      WorkerPool* on = split_query(bvhs[i], bvhs[j], i == j, pool, queries);
+      for_each_index(on, queries.size(), [&](std::size_t k) {
         std::vector<FacePair> pairs;
+        run_query(bvhs[i], bvhs[j], queries[k], i == j ? &mi.faces : nullptr, pairs);
         int found = 0;
-        for (std::size_t k = next++; k < queries.size(); k = next++) {
-          pairs.clear();
-          run_query(bvhs[i], bvhs[j], queries[k], i == j ? &mi.faces : nullptr, pairs);
-          for (const FacePair& fp : pairs) {
-            auto pi = [&](int c) { return Vec3(xi.row(mi.faces(fp.a, c))); };
-            auto pj = [&](int c) { return Vec3(xj.row(mj.faces(fp.b, c))); };
-            if (triangles_intersect(pi(0), pi(1), pi(2), pj(0), pj(1), pj(2))) ++found;
-          }
+        for (const FacePair& fp : pairs) {
+          auto pi = [&](int c) { return Vec3(xi.row(mi.faces(fp.a, c))); };
+          auto pj = [&](int c) { return Vec3(xj.row(mj.faces(fp.b, c))); };
+          if (triangles_intersect(pi(0), pi(1), pi(2), pj(0), pj(1), pj(2))) ++found;
         }
         count += found;
-      };
-      if (threads > 1) {
-        pool->run(search);
-      } else {
-        search(0);
-      }
+      });
     }
   }
   return count;
