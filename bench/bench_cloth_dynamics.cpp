@@ -2,7 +2,13 @@
 /// gravity in its plane, at 33×33, 65×65 and 129×129 vertices (2k, 8k, 32k triangles):
 ///   BM_ClothStep      a whole step_dynamics (assembly + linear solve + position update),
 ///   BM_ClothAssembly  building A·Δv = b only (element Hessians, scatter, constraints),
-///   BM_ClothSolve     the linear solve only, warm-started from the previous step's Δv.
+///   BM_ClothSolve     the linear solve only, warm-started from the previous step's Δv, by the
+///                     model's default (sparse Cholesky) and, with a third argument 1, by the
+///                     block-Jacobi PCG (LinearSolver::pcg);
+///   BM_ClothSolveIncompleteCholesky  the same solve by conjugate gradient preconditioned with
+///                     Eigen's incomplete Cholesky (AMD order, its default fill and shift),
+///                     recomputed for each step's matrix (included), warm-started alike, to the
+///                     PCG's tolerance: the issue-18 lever "PCG with incomplete Cholesky".
 /// Arguments: vertices per side, SolverSettings::threads. Counters: PCG iterations per step,
 /// triangles, vertices. Run (Release):
 ///   build/bench/bench_cloth_dynamics
@@ -10,7 +16,12 @@
 /// moving sheet rather than the flat rest state.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <vector>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
 
 #include "cloth/dynamics.hpp"
 #include "cloth/dynamics_workspace.hpp"
@@ -75,6 +86,7 @@ void BM_ClothAssembly(benchmark::State& bench) {
 
 void BM_ClothSolve(benchmark::State& bench) {
   PinnedSheet s(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)));
+  if (bench.range(2) == 1) s.model.solver.linear_solver = cloth::LinearSolver::pcg;
   cloth::DynamicsWorkspace& ws = s.state.scratch.get();
   cloth::assemble_system(s.model, s.state, kStep, s.gravity, s.pins, ws);
   // Every solve starts from the same warm start: the previous step's Δv (copy included in time,
@@ -92,6 +104,55 @@ void BM_ClothSolve(benchmark::State& bench) {
   set_size_counters(bench, s.model);
 }
 
+/// The assembled system as an Eigen sparse matrix (both triangles).
+Eigen::SparseMatrix<double> to_sparse(const cloth::SystemPattern& p, const std::vector<Mat3>& blocks) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(9 * blocks.size());
+  for (int j = 0; j < p.num_vertices; ++j) {
+    for (int b = p.col_start[static_cast<std::size_t>(j)]; b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
+      const int i = p.row[static_cast<std::size_t>(b)];
+      const Mat3& a = blocks[static_cast<std::size_t>(b)];  // A(i, j)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) entries.emplace_back(3 * i + r, 3 * j + c, a(r, c));
+    }
+  }
+  Eigen::SparseMatrix<double> a(3 * p.num_vertices, 3 * p.num_vertices);
+  a.setFromTriplets(entries.begin(), entries.end());
+  return a;
+}
+
+void BM_ClothSolveIncompleteCholesky(benchmark::State& bench) {
+  PinnedSheet s(static_cast<int>(bench.range(0)), 1);
+  cloth::DynamicsWorkspace& ws = s.state.scratch.get();
+  cloth::assemble_system(s.model, s.state, kStep, s.gravity, s.pins, ws);
+  const Eigen::SparseMatrix<double> a = to_sparse(s.model.pattern, ws.blocks);
+  const Eigen::VectorXd warm_start = ws.dv;
+  // The direct solve's answer, to check the iterative one against.
+  cloth::solve_system(s.model, s.pins, ws);
+  const Eigen::VectorXd exact = ws.dv;
+  using Preconditioner = Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Preconditioner>
+      cg;
+  cg.setTolerance(s.model.solver.tolerance);
+  cg.setMaxIterations(s.model.solver.max_iterations);
+  double iterations = 0.0;
+  Eigen::VectorXd dv;
+  double compute_seconds = 0.0;
+  for (auto _ : bench) {
+    const auto start = std::chrono::steady_clock::now();
+    cg.compute(a);
+    compute_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    dv = cg.solveWithGuess(ws.rhs, warm_start);
+    if (cg.info() != Eigen::Success) bench.SkipWithError("incomplete-Cholesky CG did not converge");
+    iterations += static_cast<double>(cg.iterations());
+  }
+  bench.counters["pcg_iterations"] =
+      benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+  bench.counters["factor_ms"] = benchmark::Counter(1e3 * compute_seconds, benchmark::Counter::kAvgIterations);
+  bench.counters["error_vs_direct"] = (dv - exact).norm() / exact.norm();
+  set_size_counters(bench, s.model);
+}
+
 }  // namespace
 
 /// 2k, 8k and 32k triangles, on one and on two threads.
@@ -105,5 +166,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_ClothStep)->Apply(sizes);
 BENCHMARK(BM_ClothAssembly)->Apply(sizes);
 BENCHMARK(BM_ClothSolve)->Apply(sizes);
+BENCHMARK(BM_ClothSolve)->Args({33, 1, 1})->Args({65, 1, 1})->Args({129, 1, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ClothSolveIncompleteCholesky)->Arg(33)->Arg(65)->Arg(129)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
