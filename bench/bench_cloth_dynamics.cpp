@@ -16,12 +16,11 @@
 /// moving sheet rather than the flat rest state.
 #include <benchmark/benchmark.h>
 
-#include <chrono>
-#include <vector>
-
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
+#include <chrono>
+#include <vector>
 
 #include "cloth/dynamics.hpp"
 #include "cloth/dynamics_workspace.hpp"
@@ -105,11 +104,13 @@ void BM_ClothSolve(benchmark::State& bench) {
 }
 
 /// The assembled system as an Eigen sparse matrix (both triangles).
-Eigen::SparseMatrix<double> to_sparse(const cloth::SystemPattern& p, const std::vector<Mat3>& blocks) {
+Eigen::SparseMatrix<double> to_sparse(const cloth::SystemPattern& p,
+                                      const std::vector<Mat3>& blocks) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(9 * blocks.size());
   for (int j = 0; j < p.num_vertices; ++j) {
-    for (int b = p.col_start[static_cast<std::size_t>(j)]; b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
+    for (int b = p.col_start[static_cast<std::size_t>(j)];
+         b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
       const int i = p.row[static_cast<std::size_t>(b)];
       const Mat3& a = blocks[static_cast<std::size_t>(b)];  // A(i, j)
       for (int r = 0; r < 3; ++r)
@@ -141,14 +142,16 @@ void BM_ClothSolveIncompleteCholesky(benchmark::State& bench) {
   for (auto _ : bench) {
     const auto start = std::chrono::steady_clock::now();
     cg.compute(a);
-    compute_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    compute_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     dv = cg.solveWithGuess(ws.rhs, warm_start);
     if (cg.info() != Eigen::Success) bench.SkipWithError("incomplete-Cholesky CG did not converge");
     iterations += static_cast<double>(cg.iterations());
   }
   bench.counters["pcg_iterations"] =
       benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
-  bench.counters["factor_ms"] = benchmark::Counter(1e3 * compute_seconds, benchmark::Counter::kAvgIterations);
+  bench.counters["factor_ms"] =
+      benchmark::Counter(1e3 * compute_seconds, benchmark::Counter::kAvgIterations);
   bench.counters["error_vs_direct"] = (dv - exact).norm() / exact.norm();
   set_size_counters(bench, s.model);
 }
@@ -166,7 +169,17 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_ClothStep)->Apply(sizes);
 BENCHMARK(BM_ClothAssembly)->Apply(sizes);
 BENCHMARK(BM_ClothSolve)->Apply(sizes);
-BENCHMARK(BM_ClothSolve)->Args({33, 1, 1})->Args({65, 1, 1})->Args({129, 1, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_ClothSolveIncompleteCholesky)->Arg(33)->Arg(65)->Arg(129)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ClothSolve)
+    ->Args({33, 1, 1})
+    ->Args({65, 1, 1})
+    ->Args({129, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ClothSolveIncompleteCholesky)
+    ->Arg(33)
+    ->Arg(65)
+    ->Arg(129)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();
