@@ -1,5 +1,8 @@
 #include "core/heap.hpp"
 
+#include <cstdlib>  // defines __GLIBC__ on glibc: without a system header first, the test below
+                    // never held and the setting was never made
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
