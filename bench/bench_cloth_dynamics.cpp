@@ -145,7 +145,10 @@ void BM_ClothSolveIncompleteCholesky(benchmark::State& bench) {
     compute_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     dv = cg.solveWithGuess(ws.rhs, warm_start);
-    if (cg.info() != Eigen::Success) bench.SkipWithError("incomplete-Cholesky CG did not converge");
+    if (cg.info() != Eigen::Success) {
+      bench.SkipWithError("incomplete-Cholesky CG did not converge");
+      return;
+    }
     iterations += static_cast<double>(cg.iterations());
   }
   bench.counters["pcg_iterations"] =
