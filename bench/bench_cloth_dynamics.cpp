@@ -9,6 +9,12 @@
 ///                     Eigen's incomplete Cholesky (AMD order, its default fill and shift),
 ///                     recomputed for each step's matrix (included), warm-started alike, to the
 ///                     PCG's tolerance: the issue-18 lever "PCG with incomplete Cholesky".
+///   BM_ClothFriction  a step with Coulomb friction on a square patch of k×k vertices in the
+///                     middle of the 65×65 sheet (a surface dragging it sideways; bounds from
+///                     1/4 to 7/4 of what would stop each vertex, so some stick and some slide):
+///                     arguments k and 1 for the Schur complement (friction_schur.cpp), 0 for
+///                     Newton over the whole cloth (friction_newton.cpp). Counters:
+///                     friction_ms (the friction's own time per step), newton (its iterations).
 /// Arguments: vertices per side, SolverSettings::threads. Counters: PCG iterations per step,
 /// triangles, vertices. Run (Release):
 ///   build/bench/bench_cloth_dynamics
@@ -103,6 +109,41 @@ void BM_ClothSolve(benchmark::State& bench) {
   set_size_counters(bench, s.model);
 }
 
+void BM_ClothFriction(benchmark::State& bench) {
+  constexpr int n = 65;
+  PinnedSheet s(n, 1);
+  const int k = static_cast<int>(bench.range(0));
+  const Vec3 surface_velocity(0.05, 0.0, 0.0);
+  std::vector<cloth::FrictionConstraint> friction;
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) {
+      const int v = (n - k) / 2 + i + n * ((n - k) / 2 + j);
+      const double share = 0.25 + 1.5 * static_cast<double>(i * k + j) / (k * k);
+      const double stop = s.model.mass[v] * surface_velocity.norm();
+      friction.push_back({v, Vec3::UnitZ(), surface_velocity, share * stop, false});
+    }
+  }
+  cloth::FrictionSettings settings;
+  settings.max_schur_vertices = bench.range(1) == 1 ? k * k : 0;
+  cloth::FrictionOutcome outcome;
+  double seconds = 0.0, iterations = 0.0;
+  for (auto _ : bench) {
+    const cloth::DynamicsReport r = cloth::solve_velocities(s.model, s.state, kStep, s.gravity,
+                                                            s.pins, friction, outcome, settings);
+    if (!r.ok) {
+      bench.SkipWithError(r.message.c_str());
+      return;
+    }
+    cloth::advance_positions(s.state, kStep);
+    seconds += outcome.seconds;
+    iterations += outcome.iterations;
+  }
+  bench.counters["friction_ms"] =
+      benchmark::Counter(1e3 * seconds, benchmark::Counter::kAvgIterations);
+  bench.counters["newton"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+  bench.counters["friction_vertices"] = static_cast<double>(k * k);
+}
+
 /// The assembled system as an Eigen sparse matrix (both triangles).
 Eigen::SparseMatrix<double> to_sparse(const cloth::SystemPattern& p,
                                       const std::vector<Mat3>& blocks) {
@@ -185,6 +226,11 @@ BENCHMARK(BM_ClothSolveIncompleteCholesky)
     ->Arg(33)
     ->Arg(65)
     ->Arg(129)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+BENCHMARK(BM_ClothFriction)
+    ->ArgsProduct({{8, 12, 17}, {1, 0}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -66,8 +66,8 @@ struct DynamicsWorkspace {
   // The Schur complement condensed on the slip coordinates (friction_schur.cpp).
   std::vector<int> schur_fidx, schur_ridx, schur_slip_dofs, schur_yoff;
   std::vector<Mat3> schur_frame;
-  Eigen::MatrixXd schur_Syy, schur_X;
-  Eigen::VectorXd schur_cy, schur_xr, schur_tail;
+  Eigen::MatrixXd schur_Syy, schur_Lr, schur_W;  ///< S_yy condensed; S_rr = L_r·L_rᵀ; L_r⁻¹·S_ry
+  Eigen::VectorXd schur_cy, schur_zr, schur_tail;
   // Assembly on several threads (none for one).
   std::vector<AssemblyPart> assembly_parts;
   std::unique_ptr<WorkerPool> assembly_pool;

@@ -3,12 +3,11 @@
 // The step minimises f(Δv) = ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k φ(‖w_k‖), whose friction terms touch only
 // the friction vertices F. Ordered last in a Cholesky factorisation A = LLᵀ, their unknowns x
 // satisfy S·x = c + λ with S = L₂₂L₂₂ᵀ the Schur complement of the other unknowns and
-// c = L₂₂z₂ (z the forward-substituted b), λ the friction impulses. So the whole friction problem is the small
-// dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), condensed further on the slip coordinates
-// (two per vertex), and one back substitution gives every other velocity: the friction costs a
-// dense problem of about 2|F| unknowns instead of a linear solve of the cloth per Newton
+// c = L₂₂z₂ (z the forward-substituted b), λ the friction impulses. So the whole friction problem
+// is the small dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), condensed further on the slip
+// coordinates (two per vertex), and one back substitution gives every other velocity: the friction
+// costs a dense problem of about 2|F| unknowns instead of a linear solve of the cloth per Newton
 // iteration.
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +16,7 @@
 #include <string>
 
 #include "cloth/block_pcg.hpp"
+#include "cloth/dense_blas.hpp"
 #include "cloth/dynamics_workspace.hpp"
 
 namespace dexcloth::cloth {
@@ -73,10 +73,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   // The friction problem on the Schur complement: min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k‖).
   start = Clock::now();
   d.cholesky.trailing_factor(static_cast<int>(m), ws.schur_L);
-  // S = L₂₂L₂₂ᵀ, a symmetric rank update; c = L₂₂z₂.
-  ws.schur_S.setZero(m, m);
-  ws.schur_S.selfadjointView<Eigen::Lower>().rankUpdate(ws.schur_L);
-  ws.schur_S.triangularView<Eigen::StrictlyUpper>() = ws.schur_S.transpose();
+  // S = L₂₂L₂₂ᵀ; c = L₂₂z₂.
+  lower_times_transpose(ws.schur_L, ws.schur_S);
   ws.schur_c.noalias() = ws.schur_L.triangularView<Eigen::Lower>() * ws.work.tail(m);
   // Only the slip directions are nonlinear: in each tail vertex's frame R (tangents first when
   // its contact planes agree, else all three axes; none without friction) the unknowns split
@@ -124,16 +122,23 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   }
   const auto p = static_cast<Eigen::Index>(fidx.size());
   const auto q = static_cast<Eigen::Index>(ridx.size());
-  // Condensed: Sc = S_yy − S_yr·S_rr⁻¹·S_ry, cc = c_y − S_yr·S_rr⁻¹·c_r.
+  // Condensed: Sc = S_yy − S_yr·S_rr⁻¹·S_ry, cc = c_y − S_yr·S_rr⁻¹·c_r. With S_rr = L_r·L_rᵀ,
+  // W = L_r⁻¹·S_ry and z_r = L_r⁻¹·c_r: Sc = S_yy − WᵀW, cc = c_y − Wᵀz_r.
   ws.schur_Syy = ws.schur_S(fidx, fidx);
   ws.schur_cy = ws.schur_c(fidx);
-  Eigen::LLT<Eigen::MatrixXd> rest;
   if (q > 0) {
-    rest.compute(ws.schur_S(ridx, ridx));
-    ws.schur_X = rest.solve(ws.schur_S(ridx, fidx));  // S_rr⁻¹·S_ry
-    ws.schur_xr = rest.solve(ws.schur_c(ridx));       // S_rr⁻¹·c_r
-    ws.schur_Syy.noalias() -= ws.schur_S(fidx, ridx) * ws.schur_X;
-    ws.schur_cy.noalias() -= ws.schur_S(fidx, ridx) * ws.schur_xr;
+    ws.schur_Lr = ws.schur_S(ridx, ridx);
+    if (!cholesky_lower(ws.schur_Lr)) {  // not expected: S is SPD
+      report.ok = false;
+      report.message = "friction solve: the Schur complement is not positive definite";
+      return report;
+    }
+    ws.schur_W = ws.schur_S(ridx, fidx);
+    solve_lower(ws.schur_Lr, ws.schur_W);
+    ws.schur_zr = ws.schur_c(ridx);
+    solve_lower(ws.schur_Lr, ws.schur_zr);
+    subtract_gram(ws.schur_W, ws.schur_Syy);
+    ws.schur_cy.noalias() -= ws.schur_W.transpose() * ws.schur_zr;
   }
   // Per constraint: offset of its vertex's slip coordinates in y and their axes.
   std::vector<int>& yoff = ws.schur_yoff;  // per tail vertex
@@ -187,9 +192,9 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
       ws.schur_K.block(o, o, nd, nd) += axes(a).transpose() * H * axes(a);
       ws.schur_r.segment(o, nd) -= axes(a).transpose() * friction_gradient(w, f.max_impulse, eps);
     }
-    const Eigen::LLT<Eigen::MatrixXd> llt(ws.schur_K);
-    if (llt.info() != Eigen::Success) break;  // not expected: Sc is SPD, the H are PSD
-    ws.schur_step = llt.solve(ws.schur_r);
+    if (!cholesky_lower(ws.schur_K)) break;  // not expected: Sc is SPD, the H are PSD
+    ws.schur_step = ws.schur_r;
+    cholesky_solve(ws.schur_K, ws.schur_step);
     ++iterations;
     double alpha = 1.0;
     ws.schur_trial = ws.schur_x + ws.schur_step;
@@ -206,10 +211,14 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     // step far below ε still leaves a large impulse residual.
     if (alpha * ws.schur_step.cwiseAbs().maxCoeff() < 1e-8 * eps) break;
   }
-  // The tail: y, the rest r = S_rr⁻¹·(c_r − S_ry·y), back from the frames.
+  // The tail: y, the rest r = S_rr⁻¹·(c_r − S_ry·y) = L_r⁻ᵀ·(z_r − W·y), back from the frames.
   ws.schur_tail.resize(m);
   ws.schur_tail(fidx) = ws.schur_x;
-  if (q > 0) ws.schur_tail(ridx) = ws.schur_xr - ws.schur_X * ws.schur_x;
+  if (q > 0) {
+    ws.schur_zr.noalias() -= ws.schur_W * ws.schur_x;
+    solve_lower_transposed(ws.schur_Lr, ws.schur_zr);
+    ws.schur_tail(ridx) = ws.schur_zr;
+  }
   for (std::size_t a = 0; a < F.size(); ++a) {
     const auto row = static_cast<Eigen::Index>(3 * a);
     ws.work.segment<3>(n - m + row) = frame[a] * ws.schur_tail.segment<3>(row);

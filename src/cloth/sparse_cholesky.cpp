@@ -4,24 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "cloth/blas.hpp"
 #include "core/assert.hpp"
-
-// BLAS and LAPACK (OpenBLAS), Fortran calling convention (trailing hidden string lengths).
-extern "C" {
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t);
-void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
-            const int* n, const double* alpha, const double* a, const int* lda, double* b,
-            const int* ldb, std::size_t, std::size_t, std::size_t, std::size_t);
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
-            const double* a, const int* lda, const double* beta, double* c, const int* ldc,
-            std::size_t, std::size_t);
-void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a,
-            const int* lda, const double* x, const int* incx, const double* beta, double* y,
-            const int* incy, std::size_t);
-void openblas_set_num_threads(int threads);
-void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a,
-            const int* lda, double* x, const int* incx, std::size_t, std::size_t, std::size_t);
-}
 
 namespace dexcloth::cloth {
 namespace {
