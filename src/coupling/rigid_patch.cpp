@@ -90,7 +90,8 @@ std::vector<std::vector<int>> cluster_vertices(std::span<const PatchVertex> vert
     return Eigen::Vector3i((x / params.distance).array().floor().cast<int>());
   };
   const auto key = [](const Eigen::Vector3i& c) {
-    return (static_cast<long long>(c.x()) * 73856093LL) ^ (static_cast<long long>(c.y()) * 19349663LL) ^
+    return (static_cast<long long>(c.x()) * 73856093LL) ^
+           (static_cast<long long>(c.y()) * 19349663LL) ^
            (static_cast<long long>(c.z()) * 83492791LL);
   };
   std::unordered_map<long long, std::vector<int>> grid;
@@ -198,8 +199,8 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
   patch.R.col(1) = n.cross(u);
   patch.R.col(2) = n;
   patch.center = com + rect.center.x() * e1 + rect.center.y() * e2;
-  patch.size = Vec3(std::max(rect.extent.x(), min_size), std::max(rect.extent.y(), min_size),
-                    thickness);
+  patch.size =
+      Vec3(std::max(rect.extent.x(), min_size), std::max(rect.extent.y(), min_size), thickness);
 
   // Angular velocity from the angular momentum about the centre of mass: ω = I⁻¹ L.
   Vec3 L = Vec3::Zero();
@@ -269,7 +270,23 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
 void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness) {
   FacingSurfaces f = facing_surfaces(touches, patch.center, patch.R.col(2));
-  if (f.above.empty() || f.below.empty()) return;
+  if (f.above.empty() || f.below.empty()) {
+    // The fitted plane may tilt beyond kFacingDeg from the fingers (a fold bent round a pad's
+    // edge joined the cluster; in a carried pinch it tilted 23° and the box, left thinner and
+    // askew between the pads, let them close and the sheet go): then look for the faces about
+    // the touches' own mean direction (component-wise median of their normals, each turned to
+    // the patch's side).
+    if (touches.empty()) return;
+    std::array<std::vector<double>, 3> turned;
+    for (const SurfaceTouch& t : touches) {
+      const Vec3 m = t.normal.dot(patch.R.col(2)) >= 0.0 ? t.normal : Vec3(-t.normal);
+      for (int k = 0; k < 3; ++k) turned[static_cast<std::size_t>(k)].push_back(m[k]);
+    }
+    const Vec3 m(median(turned[0]), median(turned[1]), median(turned[2]));
+    if (!(m.norm() > 0.0)) return;
+    f = facing_surfaces(touches, patch.center, m.normalized());
+    if (f.above.empty() || f.below.empty()) return;
+  }
   // Turn the box to the surfaces' mean plane: the plane fitted to crumpled cloth in a pinch tilts
   // by up to 20°, and the corners of a tilted box sink millimetres deep into a finger, which
   // then takes the box's contact on an edge instead of squeezing it flat.

@@ -10,29 +10,29 @@ namespace dexcloth::coupling {
 
 /// Clustering thresholds (paper eqs. 9–11).
 struct ClusterParams {
-  double distance{0.040};    ///< δw: ‖xi − xj‖ ≤ δw [m]
-  double normal_deg{20.0};   ///< δn: angle between ni and nj ≤ δn [deg] (‖ni − nj‖ ≤ 2 sin(δn/2))
-  double offset{0.003};      ///< δd: |(xi − xj)·ni| + |(xi − xj)·nj| ≤ δd [m]
+  double distance{0.040};  ///< δw: ‖xi − xj‖ ≤ δw [m]
+  double normal_deg{20.0};  ///< δn: angle between ni and nj ≤ δn [deg] (‖ni − nj‖ ≤ 2 sin(δn/2))
+  double offset{0.003};  ///< δd: |(xi − xj)·ni| + |(xi − xj)·nj| ≤ δd [m]
 };
 
 /// A cloth vertex offered to the patch builder.
 struct PatchVertex {
-  Vec3 x{Vec3::Zero()};        ///< position [m]
-  Vec3 v{Vec3::Zero()};        ///< velocity [m/s]
-  Vec3 n{Vec3::UnitZ()};       ///< unit surface normal
-  double mass{};               ///< [kg]
+  Vec3 x{Vec3::Zero()};   ///< position [m]
+  Vec3 v{Vec3::Zero()};   ///< velocity [m/s]
+  Vec3 n{Vec3::UnitZ()};  ///< unit surface normal
+  double mass{};          ///< [kg]
 };
 
 /// One rigid cloth patch: a box of size (x, y, thickness) in its frame R = [e_u e_v n].
 struct RigidPatch {
-  Vec3 center{Vec3::Zero()};       ///< box centre, on the fitted plane [m]
-  Mat3 R{Mat3::Identity()};        ///< columns: rectangle axes u, v and the plane normal
-  Vec3 size{Vec3::Zero()};         ///< full extents along u, v, n [m]
-  double mass{};                   ///< sum of the vertex masses [kg]
+  Vec3 center{Vec3::Zero()};            ///< box centre, on the fitted plane [m]
+  Mat3 R{Mat3::Identity()};             ///< columns: rectangle axes u, v and the plane normal
+  Vec3 size{Vec3::Zero()};              ///< full extents along u, v, n [m]
+  double mass{};                        ///< sum of the vertex masses [kg]
   Vec3 linear_velocity{Vec3::Zero()};   ///< velocity of the box centre [m/s]
   Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
-  std::vector<int> vertices;       ///< indices into the builder's input (cloth vertices once placed)
-  std::vector<int> cloths;         ///< cloth mesh of each vertex, once placed
+  std::vector<int> vertices;  ///< indices into the builder's input (cloth vertices once placed)
+  std::vector<int> cloths;    ///< cloth mesh of each vertex, once placed
 };
 
 /// Groups vertices into clusters: i and j are joined (transitively) when all three paper
@@ -63,7 +63,10 @@ struct SurfaceTouch {
 /// through it. The surfaces are those facing within 20° of the patch normal; the box is first
 /// turned about its centre to their plane (component-wise median of their normals, each turned
 /// to the patch's side) and then centred on the median offset of each side (a finger's flank
-/// beside the pad is outvoted). A patch touched on one side only, or none, is left as it is.
+/// beside the pad is outvoted). When no surface faces the patch's normal on one side, the same
+/// is tried about the median of all the touches' normals (a plane fitted to cloth bent round a
+/// pad's edge can tilt more than 20°). A patch touched on one side only, or none, is left as it
+/// is.
 void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 

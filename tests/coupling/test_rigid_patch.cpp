@@ -16,7 +16,8 @@ namespace {
 std::vector<PatchVertex> lattice(const Vec3& c) {
   std::vector<PatchVertex> out;
   for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 4; ++j) out.push_back({c + Vec3(0.005 * i, 0.005 * j, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
+    for (int j = 0; j < 4; ++j)
+      out.push_back({c + Vec3(0.005 * i, 0.005 * j, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
   return out;
 }
 
@@ -24,10 +25,12 @@ std::vector<PatchVertex> lattice(const Vec3& c) {
 
 TEST(RigidPatch, ClustersSplitByDistanceNormalAndOffset) {
   std::vector<PatchVertex> v = lattice(Vec3::Zero());
-  const auto far = lattice(Vec3(0.2, 0, 0));                 // 0.2 m away: beyond δw
+  const auto far = lattice(Vec3(0.2, 0, 0));  // 0.2 m away: beyond δw
   v.insert(v.end(), far.begin(), far.end());
-  v.push_back({Vec3(0.005, 0.005, 0.0), Vec3::Zero(), Vec3(std::sin(0.5236), 0, std::cos(0.5236)), 1e-3});  // 30° normal
-  v.push_back({Vec3(0.0, 0.0, 0.005), Vec3::Zero(), Vec3::UnitZ(), 1e-3});  // 5 mm above: offset > δd
+  v.push_back({Vec3(0.005, 0.005, 0.0), Vec3::Zero(), Vec3(std::sin(0.5236), 0, std::cos(0.5236)),
+               1e-3});  // 30° normal
+  v.push_back(
+      {Vec3(0.0, 0.0, 0.005), Vec3::Zero(), Vec3::UnitZ(), 1e-3});  // 5 mm above: offset > δd
   const auto clusters = cluster_vertices(v, ClusterParams{});
   ASSERT_EQ(clusters.size(), 4u);
   EXPECT_EQ(clusters[0].size(), 20u);
@@ -39,7 +42,8 @@ TEST(RigidPatch, ClustersSplitByDistanceNormalAndOffset) {
 TEST(RigidPatch, ClusteringIsTransitive) {
   // A line of vertices 30 mm apart: neighbours join, the ends (90 mm apart) join through them.
   std::vector<PatchVertex> v;
-  for (int i = 0; i < 4; ++i) v.push_back({Vec3(0.03 * i, 0, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
+  for (int i = 0; i < 4; ++i)
+    v.push_back({Vec3(0.03 * i, 0, 0), Vec3::Zero(), Vec3::UnitZ(), 1e-3});
   EXPECT_EQ(cluster_vertices(v, ClusterParams{}).size(), 1u);
   ClusterParams tight;
   tight.distance = 0.02;
@@ -54,10 +58,12 @@ TEST(RigidPatch, MinimumAreaRectangleOfARotatedRectangle) {
   std::uniform_real_distribution<double> a(-1.0, 1.0);
   for (int sx : {-1, 1})
     for (int sy : {-1, 1}) pts.push_back(Vec2(0.1, 0.2) + sx * 0.02 * u + sy * 0.01 * w);
-  for (int k = 0; k < 50; ++k) pts.push_back(Vec2(0.1, 0.2) + 0.02 * a(rng) * u + 0.01 * a(rng) * w);
+  for (int k = 0; k < 50; ++k)
+    pts.push_back(Vec2(0.1, 0.2) + 0.02 * a(rng) * u + 0.01 * a(rng) * w);
   const Rectangle2 r = min_area_rectangle(pts);
   EXPECT_NEAR(r.extent.x() * r.extent.y(), 0.04 * 0.02, 1e-15);
-  EXPECT_NEAR(std::abs(r.axis.dot(u)) + std::abs(r.axis.dot(w)), 1.0, 1e-12);  // aligned with a side
+  EXPECT_NEAR(std::abs(r.axis.dot(u)) + std::abs(r.axis.dot(w)), 1.0,
+              1e-12);  // aligned with a side
   EXPECT_NEAR((r.center - Vec2(0.1, 0.2)).norm(), 0.0, 1e-14);
 }
 
@@ -80,9 +86,9 @@ TEST(RigidPatch, RotatingRigidClusterGivesItsExactVelocities) {
   EXPECT_NEAR((p.angular_velocity - omega).norm(), 0.0, 1e-10);
   // The box centre's velocity is the rigid velocity field at that point.
   EXPECT_NEAR((p.linear_velocity - (v0 + omega.cross(p.center - c))).norm(), 0.0, 1e-10);
-  EXPECT_NEAR(std::abs(p.R.col(2).dot(R.col(2))), 1.0, 1e-12);     // plane normal
-  EXPECT_GT(p.R.col(2).dot(R.col(2)), 0.0);                         // oriented like the vertices
-  EXPECT_NEAR(p.size.x() * p.size.y(), 0.02 * 0.008, 1e-12);       // 20 mm × 8 mm rectangle
+  EXPECT_NEAR(std::abs(p.R.col(2).dot(R.col(2))), 1.0, 1e-12);  // plane normal
+  EXPECT_GT(p.R.col(2).dot(R.col(2)), 0.0);                     // oriented like the vertices
+  EXPECT_NEAR(p.size.x() * p.size.y(), 0.02 * 0.008, 1e-12);    // 20 mm × 8 mm rectangle
   EXPECT_DOUBLE_EQ(p.size.z(), 1e-3);
   EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
   EXPECT_GT(p.R.determinant(), 0.0);
@@ -185,6 +191,37 @@ TEST(RigidPatch, APatchFittedToTiltedClothIsTurnedToTheFingersItIsSqueezedBetwee
   EXPECT_NEAR(p.center.x() - c0.x(), 0.0, 1e-12);
   EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
   EXPECT_NEAR((p.linear_velocity - v0).norm(), 0.0, 1e-12);
+}
+
+TEST(RigidPatch, APatchFittedMoreThanTwentyDegreesOffTheFingersIsStillTurnedToThem) {
+  // As above with the fitted plane 25° off the pads (cloth bent round a pad's edge joined the
+  // cluster): no pad faces the fitted normal within 20°, so the faces are sought about the
+  // touches' own median normal, and the box still turns flat between the pads at the thickness
+  // asked for. A flank touch at 50° is outvoted.
+  std::vector<PatchVertex> v = lattice(Vec3::Zero());
+  const Mat3 tilt = Eigen::AngleAxisd(25.0 * M_PI / 180.0, Vec3::UnitY()).toRotationMatrix();
+  for (PatchVertex& pv : v) {
+    pv.x = tilt * pv.x;
+    pv.n = tilt * pv.n;
+  }
+  std::vector<int> all(v.size());
+  std::iota(all.begin(), all.end(), 0);
+  RigidPatch p = build_patch(v, all, 0.010, 0.010);
+  ASSERT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), std::cos(25.0 * M_PI / 180.0), 1e-9);
+  const Vec3 c0 = p.center;
+  std::vector<SurfaceTouch> touches;
+  for (int k = 0; k < 3; ++k) {
+    touches.push_back({c0 + Vec3(0.004 * k, 0, 0.003), -Vec3::UnitZ()});
+    touches.push_back({c0 + Vec3(0.004 * k, 0.002, -0.004), Vec3::UnitZ()});
+  }
+  touches.push_back(
+      {c0 + Vec3(0.012, 0, 0.002),
+       Vec3(-(Eigen::AngleAxisd(50.0 * M_PI / 180.0, Vec3::UnitY()) * Vec3::UnitZ()))});
+  centre_between_surfaces(p, touches, 0.0104);
+  EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR(p.center.z() - c0.z(), -0.0005, 1e-12);
+  EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
+  EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
 }
 
 TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
