@@ -230,7 +230,7 @@ BENCHMARK(BM_ClothSolveIncompleteCholesky)
     ->UseRealTime();
 
 BENCHMARK(BM_ClothFriction)
-    ->ArgsProduct({{8, 12, 17}, {1, 0}})
+    ->ArgsProduct({{8, 12, 17, 20}, {1, 0}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

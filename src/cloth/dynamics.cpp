@@ -29,40 +29,47 @@ void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
 }  // namespace
 
 void analyse(const SystemPattern& p, std::span<const int> order, int threads, DirectSystem& d) {
-  const int nv = p.num_vertices;
+  const auto nv = static_cast<std::size_t>(p.num_vertices);
+  DEXCLOTH_DEMAND(order.size() == nv);
+  std::vector<int> dofs(3 * nv);
+  for (std::size_t k = 0; k < nv; ++k)
+    for (int c = 0; c < 3; ++c) dofs[3 * k + static_cast<std::size_t>(c)] = 3 * order[k] + c;
+  analyse_unknowns(p, dofs, threads, d);
   d.order.assign(order.begin(), order.end());
-  std::vector<int> new_of(static_cast<std::size_t>(nv));
-  for (int k = 0; k < nv; ++k)
-    new_of[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+}
 
+void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int threads,
+                      DirectSystem& d) {
+  const int n = 3 * p.num_vertices;
+  DEXCLOTH_DEMAND(dofs.size() == static_cast<std::size_t>(n));
+  d.order.clear();
+  d.dof.assign(dofs.begin(), dofs.end());
+  std::vector<int> new_of(static_cast<std::size_t>(n), -1);
+  for (int k = 0; k < n; ++k)
+    new_of[static_cast<std::size_t>(dofs[static_cast<std::size_t>(k)])] = k;
+  for (const int k : new_of) DEXCLOTH_DEMAND(k >= 0);  // a permutation
+
+  // Scalar column k, unknown c of vertex j: the rows of its blocks' entries eliminated no later
+  // (the upper triangle), in any order (the factorisation does not need them sorted).
   d.col_start.assign(1, 0);
   d.row.clear();
   d.source.clear();
-  d.dof.resize(static_cast<std::size_t>(3 * nv));
-  std::vector<std::pair<int, int>> column;  // (new row vertex, block) of one block column
-  for (int pv = 0; pv < nv; ++pv) {
-    const int j = order[static_cast<std::size_t>(pv)];
-    column.clear();
+  for (int k = 0; k < n; ++k) {
+    const int j = dofs[static_cast<std::size_t>(k)] / 3, c = dofs[static_cast<std::size_t>(k)] % 3;
     for (int b = p.col_start[static_cast<std::size_t>(j)];
          b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
-      const int q = new_of[static_cast<std::size_t>(p.row[static_cast<std::size_t>(b)])];
-      if (q <= pv) column.emplace_back(q, b);
-    }
-    // Scalar columns (in any row order: the factorisation does not need them sorted) 3pv + c: rows
-    // 3q + r of each block, upper triangle only.
-    for (int c = 0; c < 3; ++c) {
-      d.dof[static_cast<std::size_t>(3 * pv + c)] = 3 * j + c;
-      for (const auto& [q, b] : column) {
-        for (int r = 0; r <= (q < pv ? 2 : c); ++r) {
-          d.row.push_back(3 * q + r);
-          d.source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
-        }
+      const int i = p.row[static_cast<std::size_t>(b)];
+      for (int r = 0; r < 3; ++r) {
+        const int q = new_of[static_cast<std::size_t>(3 * i + r)];
+        if (q > k) continue;
+        d.row.push_back(q);
+        d.source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
       }
-      d.col_start.push_back(static_cast<int>(d.row.size()));
     }
+    d.col_start.push_back(static_cast<int>(d.row.size()));
   }
   d.values.assign(d.row.size(), 0.0);
-  d.cholesky.analyze(3 * nv, d.col_start, d.row, threads);
+  d.cholesky.analyze(n, d.col_start, d.row, threads);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
@@ -360,7 +367,10 @@ int schur_vertices(std::span<const FrictionConstraint> friction, DynamicsWorkspa
     ws.schur_mark[v] = 1;
   }
   if (static_cast<int>(ws.schur_vertices.size()) > 2 * count + 8) {
-    for (int v : ws.schur_vertices) ws.schur_slot[static_cast<std::size_t>(v)] = -1;
+    for (int v : ws.schur_vertices) {
+      ws.schur_slot[static_cast<std::size_t>(v)] = -1;
+      if (!ws.schur_count.empty()) ws.schur_count[static_cast<std::size_t>(v)] = 0;
+    }
     ws.schur_vertices.clear();
   }
   for (std::size_t k = 0; k < friction.size(); ++k) {
@@ -477,6 +487,15 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   // Vertices held by `constraints` keep those, without friction.
   ws.held.assign(static_cast<std::size_t>(nv), 0);
   for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;
+  // A squeezed vertex moves with its surfaces along their normal: every plane it touches is that
+  // one (the Schur complement's slip coordinates leave its normal to the elimination).
+  ws.squeezed_normal.assign(static_cast<std::size_t>(nv), Vec3::Zero());
+  for (const FrictionConstraint& f : friction)
+    if (f.squeezed) ws.squeezed_normal[static_cast<std::size_t>(f.vertex)] = f.normal;
+  for (const FrictionConstraint& f : friction) {
+    const Vec3& n = ws.squeezed_normal[static_cast<std::size_t>(f.vertex)];
+    DEXCLOTH_DEMAND(n.squaredNorm() == 0.0 || n.cross(f.normal).norm() < 1e-6);
+  }
   const std::size_t nf = friction.size();
   const double eps = settings.stick_velocity;
   const auto active = [&](std::size_t k) {

@@ -26,7 +26,8 @@ struct VelocityConstraint {
 /// most `max_impulse`; otherwise it slides and friction applies `max_impulse` against its
 /// sliding velocity. Its normal velocity is left to the dynamics, unless it is squeezed between
 /// two surfaces: then it moves with them along the normal too (their contact forces, outside the
-/// solve, would stop any normal motion relative to them).
+/// solve, would stop any normal motion relative to them); its other constraints, if any, must
+/// share that plane.
 struct FrictionConstraint {
   int vertex{};                         ///< vertex index in [0, |V|)
   Vec3 normal{Vec3::UnitZ()};           ///< unit contact normal (sign irrelevant)

@@ -12,10 +12,10 @@
 
 namespace dexcloth::cloth {
 
-/// A direct solver for the system: its upper triangle gathered in a vertex elimination order,
-/// and the factorisation.
+/// A direct solver for the system: its upper triangle gathered in an elimination order of the
+/// vertices (or of the scalar unknowns), and the factorisation.
 struct DirectSystem {
-  std::vector<int> order;      ///< vertex eliminated k-th (empty before the first analysis)
+  std::vector<int> order;      ///< vertex eliminated k-th (empty before a first analysis by vertex)
   std::vector<int> col_start;  ///< 3|V|+1
   std::vector<int> row;        ///< permuted row of each stored entry
   std::vector<int> source;     ///< offset of each stored entry in the blocks (as doubles)
@@ -50,24 +50,31 @@ struct DynamicsWorkspace {
   std::vector<VelocityConstraint> solve_constraints;  ///< a friction solve's, squeezed normals too
   std::vector<Vec3> last_slip;  ///< each friction vertex's slip at the last Newton iterate
   std::vector<char> held;       ///< |V| flags of vertices held by the caller's velocity constraints
-  std::vector<char> active;     ///< per friction constraint: 1 unless its vertex is held
-  Eigen::VectorXd dv_iterate;   ///< friction Newton: current iterate
-  Eigen::VectorXd dv_step;      ///< friction Newton: step to the next iterate
-  DirectSystem direct;          ///< the direct solver, in the pattern's fill-reducing order
-  /// Friction through a Schur complement: the direct solver with the friction vertices last.
+  std::vector<Vec3> squeezed_normal;  ///< |V|: a squeezed vertex's normal, else zero
+  std::vector<char> active;           ///< per friction constraint: 1 unless its vertex is held
+  Eigen::VectorXd dv_iterate;         ///< friction Newton: current iterate
+  Eigen::VectorXd dv_step;            ///< friction Newton: step to the next iterate
+  DirectSystem direct;                ///< the direct solver, in the pattern's fill-reducing order
+  /// Friction through a Schur complement: the direct solver with the friction vertices' slip
+  /// coordinates last, in their frames.
   DirectSystem schur;
   std::vector<int>
-      schur_vertices;            ///< vertices ordered last: the friction vertices and recent ones
-  std::vector<int> schur_slot;   ///< |V|: position of a friction vertex in schur_vertices, or −1
-  std::vector<int> schur_order;  ///< the elimination order with them last
-  std::vector<char> schur_mark;  ///< |V| scratch: vertices with friction this step
-  Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton matrix
-  Eigen::VectorXd schur_c, schur_x, schur_r, schur_step, schur_trial;
-  // The Schur complement condensed on the slip coordinates (friction_schur.cpp).
-  std::vector<int> schur_fidx, schur_ridx, schur_slip_dofs, schur_yoff;
-  std::vector<Mat3> schur_frame;
-  Eigen::MatrixXd schur_Syy, schur_Lr, schur_W;  ///< S_yy condensed; S_rr = L_r·L_rᵀ; L_r⁻¹·S_ry
-  Eigen::VectorXd schur_cy, schur_zr, schur_tail;
+      schur_vertices;             ///< vertices ordered last: the friction vertices and recent ones
+  std::vector<int> schur_slot;    ///< |V|: position of a friction vertex in schur_vertices, or −1
+  std::vector<int> schur_order;   ///< the unknowns' elimination order with their slip ones last
+  std::vector<char> schur_mark;   ///< |V| scratch: vertices with friction this step
+  std::vector<char> schur_count;  ///< |V|: slip coordinates (2 or 3) of a vertex while in F
+  std::vector<char> schur_planes;  ///< per friction vertex: its contact planes (0, 1, 2 = more)
+  std::vector<Mat3> schur_frame;   ///< per friction vertex: its frame (slip axes first)
+  std::vector<int> schur_yoff;     ///< per friction vertex: offset of its slip coordinates; total
+  std::vector<int> schur_qoff;     ///< per friction vertex: offset in the Newton problem, or −1
+  std::vector<int> schur_fidx, schur_ridx;  ///< tail coordinates with friction now, and the rest
+  std::vector<std::pair<int, Mat3>> schur_saved_blocks;  ///< blocks before the frames' rotation
+  std::vector<std::pair<int, Vec3>> schur_saved_rhs;     ///< right-hand sides before it
+  Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton
+  Eigen::MatrixXd schur_Syy, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
+  Eigen::VectorXd schur_c, schur_cy, schur_zr, schur_tail;
+  Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
   // Assembly on several threads (none for one).
   std::vector<AssemblyPart> assembly_parts;
   std::unique_ptr<WorkerPool> assembly_pool;
@@ -80,6 +87,10 @@ struct DynamicsWorkspace {
 /// factorisations on `threads` threads.
 void analyse(const SystemPattern& pattern, std::span<const int> order, int threads,
              DirectSystem& d);
+/// The same in an elimination order of the scalar unknowns: `dofs[k]` = 3v + c is unknown c of
+/// vertex v, eliminated k-th (a permutation of 0 .. 3|V| − 1). d.order is left empty.
+void analyse_unknowns(const SystemPattern& pattern, std::span<const int> dofs, int threads,
+                      DirectSystem& d);
 
 /// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
 /// failed.

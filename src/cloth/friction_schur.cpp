@@ -1,13 +1,17 @@
 // Friction in the implicit step through the Schur complement of the friction vertices.
 //
 // The step minimises f(Δv) = ½ΔvᵀAΔv − bᵀΔv + Σ_k B_k φ(‖w_k‖), whose friction terms touch only
-// the friction vertices F. Ordered last in a Cholesky factorisation A = LLᵀ, their unknowns x
-// satisfy S·x = c + λ with S = L₂₂L₂₂ᵀ the Schur complement of the other unknowns and
-// c = L₂₂z₂ (z the forward-substituted b), λ the friction impulses. So the whole friction problem
-// is the small dense one min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k(x)‖), condensed further on the slip
-// coordinates (two per vertex), and one back substitution gives every other velocity: the friction
-// costs a dense problem of about 2|F| unknowns instead of a linear solve of the cloth per Newton
-// iteration.
+// the slip coordinates y of the friction vertices F: in each one's frame R (its contact plane's
+// tangents, then its normal; all three axes when its planes disagree) the coordinates split
+// into y and the rest. With the frames' rotation applied to A and b and the y ordered last in a
+// Cholesky factorisation A = LLᵀ, they satisfy S·y = c + λ with S = L₂₂L₂₂ᵀ the Schur complement
+// of every other unknown and c = L₂₂z₂ (z the forward-substituted b), λ the friction impulses.
+// So the whole friction problem is the small dense one min ½yᵀSy − cᵀy + Σ B_k φ(‖w_k(y)‖), and
+// one back substitution gives every other velocity: the friction costs a dense problem of about
+// 2|F| unknowns instead of a linear solve of the cloth per Newton iteration. F changes seldom
+// (vertices that lose their friction stay in it a while): the order, and its analysis, depend
+// on F alone, and the y of vertices without friction now are condensed out of the dense problem
+// once, before its Newton iterations.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,13 +26,90 @@
 namespace dexcloth::cloth {
 namespace {
 
-/// The elimination order with the friction vertices last (the rest in the pattern's order).
-void schur_order(const SystemPattern& p, const std::vector<int>& last, const std::vector<int>& slot,
-                 std::vector<int>& order) {
-  order.clear();
+/// Each friction vertex's frame and number of slip coordinates (ws.schur_frame, ws.schur_count):
+/// its contact plane's tangents first when its active constraints agree on the plane, else all
+/// three axes. A vertex keeps three once it needed them, and two without friction now (in any
+/// frame), so that the order of the unknowns, and its analysis, change only with F.
+void slip_frames(std::span<const FrictionConstraint> friction, DynamicsWorkspace& ws) {
+  const std::vector<int>& F = ws.schur_vertices;
+  const std::vector<int>& slot = ws.schur_slot;
+  std::vector<Mat3>& frame = ws.schur_frame;
+  std::vector<char>& planes = ws.schur_planes;  // per friction vertex: 0, 1, or 2 and more
+  frame.assign(F.size(), Mat3::Identity());
+  planes.assign(F.size(), 0);
+  for (std::size_t k = 0; k < friction.size(); ++k) {
+    if (!ws.active[k]) continue;
+    const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(friction[k].vertex)]);
+    const Vec3& n = friction[k].normal;
+    if (planes[a] == 0) {
+      planes[a] = 1;
+      frame[a].col(2) = n;
+    } else if (planes[a] == 1 && std::abs(frame[a].col(2).dot(n)) < 1.0 - 1e-12) {
+      planes[a] = 2;
+    }
+  }
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    char& count = ws.schur_count[static_cast<std::size_t>(F[a])];
+    count = std::max<char>(count, planes[a] == 2 ? 3 : 2);
+    if (planes[a] == 1 && count == 2) {
+      const Vec3 n = frame[a].col(2);
+      const Vec3 t1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+      frame[a].col(0) = t1;
+      frame[a].col(1) = n.cross(t1);
+    } else {
+      frame[a].setIdentity();
+    }
+  }
+}
+
+/// The elimination order of the unknowns: the other vertices' in the pattern's order, then the
+/// friction vertices' coordinates beyond their slip ones, then the slip coordinates (y).
+void schur_order(const SystemPattern& p, const DynamicsWorkspace& ws, std::vector<int>& dofs) {
+  const std::vector<int>& F = ws.schur_vertices;
+  dofs.clear();
   for (int v : p.fill_order)
-    if (slot[static_cast<std::size_t>(v)] < 0) order.push_back(v);
-  order.insert(order.end(), last.begin(), last.end());
+    if (ws.schur_slot[static_cast<std::size_t>(v)] < 0)
+      for (int c = 0; c < 3; ++c) dofs.push_back(3 * v + c);
+  for (int v : F)
+    for (int c = ws.schur_count[static_cast<std::size_t>(v)]; c < 3; ++c) dofs.push_back(3 * v + c);
+  for (int v : F)
+    for (int c = 0; c < ws.schur_count[static_cast<std::size_t>(v)]; ++c) dofs.push_back(3 * v + c);
+}
+
+/// Rotates the system's rows and columns of the friction vertices into their frames
+/// (A ← BᵀAB, b ← Bᵀb for the block-diagonal B of the frames), keeping the blocks and right-hand
+/// sides it changes in ws.schur_saved_blocks / ws.schur_saved_rhs for restore_system.
+void rotate_system(const SystemPattern& p, DynamicsWorkspace& ws) {
+  const std::vector<int>& F = ws.schur_vertices;
+  ws.schur_saved_blocks.clear();
+  ws.schur_saved_rhs.clear();
+  for (int v : F) {
+    for (int b = p.col_start[static_cast<std::size_t>(v)];
+         b < p.col_start[static_cast<std::size_t>(v) + 1]; ++b) {
+      for (const int k : {b, p.transpose[static_cast<std::size_t>(b)]})
+        ws.schur_saved_blocks.emplace_back(k, ws.blocks[static_cast<std::size_t>(k)]);
+    }
+    ws.schur_saved_rhs.emplace_back(v, ws.rhs.segment<3>(3 * v));
+  }
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    const int v = F[a];
+    const Mat3& R = ws.schur_frame[a];
+    for (int b = p.col_start[static_cast<std::size_t>(v)];
+         b < p.col_start[static_cast<std::size_t>(v) + 1]; ++b) {
+      Mat3& column = ws.blocks[static_cast<std::size_t>(b)];  // A(i, v)
+      column = (column * R).eval();
+      Mat3& row = ws.blocks[static_cast<std::size_t>(p.transpose[static_cast<std::size_t>(b)])];
+      row = (R.transpose() * row).eval();  // A(v, i)
+    }
+    ws.rhs.segment<3>(3 * v) = R.transpose() * ws.rhs.segment<3>(3 * v);
+  }
+}
+
+/// Undoes rotate_system exactly.
+void restore_system(DynamicsWorkspace& ws) {
+  for (const auto& [k, block] : ws.schur_saved_blocks)
+    ws.blocks[static_cast<std::size_t>(k)] = block;
+  for (const auto& [v, b] : ws.schur_saved_rhs) ws.rhs.segment<3>(3 * v) = b;
 }
 
 }  // namespace
@@ -50,83 +131,65 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   const std::span<const char> active = ws.active;
   const std::vector<int>& F = ws.schur_vertices;
   const std::vector<int>& slot = ws.schur_slot;
-  const auto m = static_cast<Eigen::Index>(3 * F.size());
   const auto n = static_cast<Eigen::Index>(3 * model.num_vertices());
   const double eps = settings.stick_velocity;
 
-  // The order with F last; the analysis is redone only when F changed.
-  schur_order(model.pattern, F, slot, ws.schur_order);
-  if (ws.schur_order != ws.schur.order)
-    analyse(model.pattern, ws.schur_order, model.solver.threads, ws.schur);
+  // Frames and the order with the slip coordinates last; the analysis is redone only when the
+  // order changed.
+  ws.schur_count.resize(static_cast<std::size_t>(model.num_vertices()), 0);
+  slip_frames(friction, ws);
+  schur_order(model.pattern, ws, ws.schur_order);
+  if (ws.schur_order != ws.schur.dof)
+    analyse_unknowns(model.pattern, ws.schur_order, model.solver.threads, ws.schur);
+  const std::vector<Mat3>& frame = ws.schur_frame;
+  // Per tail vertex: its slip coordinates' offset in the tail's p (`yoff`) and, when it has
+  // friction now, in the q of the Newton problem (`qoff`, else −1).
+  std::vector<int>& yoff = ws.schur_yoff;
+  std::vector<int>& qoff = ws.schur_qoff;
+  yoff.assign(F.size() + 1, 0);
+  qoff.assign(F.size(), -1);
+  ws.schur_fidx.clear();
+  ws.schur_ridx.clear();
+  for (std::size_t a = 0; a < F.size(); ++a) {
+    const int count = ws.schur_count[static_cast<std::size_t>(F[a])];
+    yoff[a + 1] = yoff[a] + count;
+    if (ws.schur_planes[a] > 0) qoff[a] = static_cast<int>(ws.schur_fidx.size());
+    for (int c = 0; c < count; ++c)
+      (ws.schur_planes[a] > 0 ? ws.schur_fidx : ws.schur_ridx).push_back(yoff[a] + c);
+  }
+  const auto dofs = [&](std::size_t a) { return yoff[a + 1] - yoff[a]; };
+  const auto axes = [&](std::size_t a) { return frame[a].leftCols(dofs(a)); };
+  const auto p = static_cast<Eigen::Index>(yoff.back());
+  const auto q = static_cast<Eigen::Index>(ws.schur_fidx.size());
   seconds += since(start);
 
-  // Factorisation and forward substitution: the cloth's own solve.
+  // Factorisation and forward substitution of the rotated system: the cloth's own solve.
   ws.blocks = ws.base_blocks;
   ws.rhs = ws.base_rhs;
   eliminate_constraints(model, state, ws.solve_constraints, ws);
+  rotate_system(model.pattern, ws);
   DynamicsReport report = factorise(ws.blocks, ws.schur);
-  if (!report.ok) return report;
   const DirectSystem& d = ws.schur;
   for (Eigen::Index k = 0; k < n; ++k) ws.work[k] = ws.rhs[d.dof[static_cast<std::size_t>(k)]];
+  restore_system(ws);
+  if (!report.ok) return report;
   d.cholesky.forward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)));
 
-  // The friction problem on the Schur complement: min ½xᵀSx − cᵀx + Σ B_k φ(‖w_k‖).
+  // The friction problem on the Schur complement: min ½yᵀSy − cᵀy + Σ B_k φ(‖w_k‖), with
+  // S = L₂₂L₂₂ᵀ and c = L₂₂z₂.
   start = Clock::now();
-  d.cholesky.trailing_factor(static_cast<int>(m), ws.schur_L);
-  // S = L₂₂L₂₂ᵀ; c = L₂₂z₂.
+  d.cholesky.trailing_factor(static_cast<int>(p), ws.schur_L);
   lower_times_transpose(ws.schur_L, ws.schur_S);
-  ws.schur_c.noalias() = ws.schur_L.triangularView<Eigen::Lower>() * ws.work.tail(m);
-  // Only the slip directions are nonlinear: in each tail vertex's frame R (tangents first when
-  // its contact planes agree, else all three axes; none without friction) the unknowns split
-  // into slip coordinates y and the rest r, and r is eliminated exactly once. Newton's method
-  // then works on the p slip coordinates alone.
-  std::vector<int>& fidx = ws.schur_fidx;
-  std::vector<int>& ridx = ws.schur_ridx;
-  std::vector<Mat3>& frame = ws.schur_frame;
-  std::vector<int>& slip_dofs = ws.schur_slip_dofs;  // per tail vertex: 0, 2 or 3
-  frame.assign(F.size(), Mat3::Identity());
-  slip_dofs.assign(F.size(), 0);
-  for (std::size_t k = 0; k < friction.size(); ++k) {
-    if (!active[k]) continue;
-    const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(friction[k].vertex)]);
-    const Vec3& n = friction[k].normal;
-    if (slip_dofs[a] == 0) {
-      slip_dofs[a] = 2;
-      frame[a].col(2) = n;  // the plane; its tangents below
-    } else if (slip_dofs[a] == 2 && std::abs(frame[a].col(2).dot(n)) < 1.0 - 1e-12) {
-      slip_dofs[a] = 3;
-      frame[a].setIdentity();
-    }
-  }
-  fidx.clear();
-  ridx.clear();
-  for (std::size_t a = 0; a < F.size(); ++a) {
-    if (slip_dofs[a] == 2) {
-      const Vec3 n = frame[a].col(2);
-      const Vec3 t1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
-      frame[a].col(0) = t1;
-      frame[a].col(1) = n.cross(t1);
-    }
-    for (int c = 0; c < 3; ++c)
-      (c < slip_dofs[a] ? fidx : ridx).push_back(3 * static_cast<int>(a) + c);
-  }
-  // S and c in the frames (block-diagonal rotation B: BᵀSB, Bᵀc).
-  for (std::size_t b = 0; b < F.size(); ++b) {
-    const auto col = static_cast<Eigen::Index>(3 * b);
-    ws.schur_S.middleCols(col, 3) = (ws.schur_S.middleCols(col, 3) * frame[b]).eval();
-  }
-  for (std::size_t a = 0; a < F.size(); ++a) {
-    const auto row = static_cast<Eigen::Index>(3 * a);
-    ws.schur_S.middleRows(row, 3) = (frame[a].transpose() * ws.schur_S.middleRows(row, 3)).eval();
-    ws.schur_c.segment<3>(row) = frame[a].transpose() * ws.schur_c.segment<3>(row);
-  }
-  const auto p = static_cast<Eigen::Index>(fidx.size());
-  const auto q = static_cast<Eigen::Index>(ridx.size());
-  // Condensed: Sc = S_yy − S_yr·S_rr⁻¹·S_ry, cc = c_y − S_yr·S_rr⁻¹·c_r. With S_rr = L_r·L_rᵀ,
-  // W = L_r⁻¹·S_ry and z_r = L_r⁻¹·c_r: Sc = S_yy − WᵀW, cc = c_y − Wᵀz_r.
+  ws.schur_c.noalias() = ws.schur_L.triangularView<Eigen::Lower>() * ws.work.tail(p);
+  // The coordinates r of the tail vertices without friction now (kept in F, unchanged order)
+  // enter it quadratically: condensed once, the Newton iterations see only the q slip
+  // coordinates x of the vertices with friction. With S_rr = L_r·L_rᵀ, W = L_r⁻¹·S_rx and
+  // z_r = L_r⁻¹·c_r: S_xx − WᵀW and c_x − Wᵀz_r.
+  const std::vector<int>& fidx = ws.schur_fidx;
+  const std::vector<int>& ridx = ws.schur_ridx;
   ws.schur_Syy = ws.schur_S(fidx, fidx);
   ws.schur_cy = ws.schur_c(fidx);
-  if (q > 0) {
+  if (!ridx.empty()) {
     ws.schur_Lr = ws.schur_S(ridx, ridx);
     if (!cholesky_lower(ws.schur_Lr)) {  // not expected: S is SPD
       report.ok = false;
@@ -140,23 +203,18 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     subtract_gram(ws.schur_W, ws.schur_Syy);
     ws.schur_cy.noalias() -= ws.schur_W.transpose() * ws.schur_zr;
   }
-  // Per constraint: offset of its vertex's slip coordinates in y and their axes.
-  std::vector<int>& yoff = ws.schur_yoff;  // per tail vertex
-  yoff.assign(F.size(), 0);
-  for (std::size_t a = 0, o = 0; a < F.size(); o += static_cast<std::size_t>(slip_dofs[a]), ++a)
-    yoff[a] = static_cast<int>(o);
-  const auto axes = [&](std::size_t a) { return frame[a].leftCols(slip_dofs[a]); };
   // Warm start: the last step's Δv in the frames.
-  ws.schur_x.resize(p);
+  ws.schur_x.resize(q);
   for (std::size_t a = 0; a < F.size(); ++a)
-    ws.schur_x.segment(yoff[a], slip_dofs[a]) =
-        axes(a).transpose() * ws.dv_iterate.segment<3>(3 * F[a]);
+    if (qoff[a] >= 0)
+      ws.schur_x.segment(qoff[a], dofs(a)) =
+          axes(a).transpose() * ws.dv_iterate.segment<3>(3 * F[a]);
   // Slip of friction constraint k at the slip coordinates y.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& y) {
     const FrictionConstraint& f = friction[k];
     const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(f.vertex)]);
     const Vec3 w = state.v.row(f.vertex).transpose() - f.surface_velocity +
-                   axes(a) * y.segment(yoff[a], slip_dofs[a]);
+                   axes(a) * y.segment(qoff[a], dofs(a));
     return Vec3(w - f.normal.dot(w) * f.normal);
   };
   const auto objective = [&](const Eigen::VectorXd& y) {
@@ -188,7 +246,7 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
                      : settled ? Mat3(f.max_impulse / s * (T - w * w.transpose() / (s * s)))
                                : Mat3(f.max_impulse / s * T);
       const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(f.vertex)]);
-      const int o = yoff[a], nd = slip_dofs[a];
+      const int o = qoff[a], nd = dofs(a);
       ws.schur_K.block(o, o, nd, nd) += axes(a).transpose() * H * axes(a);
       ws.schur_r.segment(o, nd) -= axes(a).transpose() * friction_gradient(w, f.max_impulse, eps);
     }
@@ -211,24 +269,22 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     // step far below ε still leaves a large impulse residual.
     if (alpha * ws.schur_step.cwiseAbs().maxCoeff() < 1e-8 * eps) break;
   }
-  // The tail: y, the rest r = S_rr⁻¹·(c_r − S_ry·y) = L_r⁻ᵀ·(z_r − W·y), back from the frames.
-  ws.schur_tail.resize(m);
+  // The tail: x, and r = S_rr⁻¹·(c_r − S_rx·x) = L_r⁻ᵀ·(z_r − W·x); back substitution for every
+  // other unknown; the friction vertices' velocities back from their frames.
+  ws.schur_tail.resize(p);
   ws.schur_tail(fidx) = ws.schur_x;
-  if (q > 0) {
+  if (!ridx.empty()) {
     ws.schur_zr.noalias() -= ws.schur_W * ws.schur_x;
     solve_lower_transposed(ws.schur_Lr, ws.schur_zr);
     ws.schur_tail(ridx) = ws.schur_zr;
   }
-  for (std::size_t a = 0; a < F.size(); ++a) {
-    const auto row = static_cast<Eigen::Index>(3 * a);
-    ws.work.segment<3>(n - m + row) = frame[a] * ws.schur_tail.segment<3>(row);
-  }
+  ws.work.tail(p) = ws.schur_tail;
   seconds += since(start);
-
-  // Back substitution: every other velocity from the friction vertices'.
   d.cholesky.backward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)),
-                               static_cast<int>(m));
+                               static_cast<int>(p));
   for (Eigen::Index k = 0; k < n; ++k) ws.dv[d.dof[static_cast<std::size_t>(k)]] = ws.work[k];
+  for (std::size_t a = 0; a < F.size(); ++a)
+    ws.dv.segment<3>(3 * F[a]) = frame[a] * ws.dv.segment<3>(3 * F[a]);
 
   // Check: every row of the system balances, the friction vertices' with their impulses (one
   // thread, as direct_residual).

@@ -267,3 +267,47 @@ TEST(DynamicsFriction, SchurComplementAndNewtonIterationsReachTheSameStep) {
   EXPECT_LT((schur - newton).cwiseAbs().maxCoeff(), 1e-8);
   EXPECT_GT(schur.cwiseAbs().maxCoeff(), 0.01);
 }
+
+TEST(DynamicsFriction, SchurComplementAndNewtonAgreeAcrossChangingContactsAndTwoPlanes) {
+  // As above, with what contacts do to the Schur complement's unknowns: vertices with two
+  // contact planes (their three coordinates all slip), one with a squeezed normal, and a contact
+  // set that changes every few steps, so friction vertices come, go and come back.
+  const ClothMesh mesh = strip_mesh();
+  const auto run = [&](int max_schur_vertices) {
+    ClothModel model = build_model(mesh, strip_material());
+    model.solver.linear_solver = LinearSolver::cholesky;
+    ClothState state = make_state(model, mesh.x);
+    const std::vector<FrictionConstraint> all = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
+    const Vec3 tilted = Vec3(0.0, std::sin(0.5), std::cos(0.5));
+    const std::vector<VelocityConstraint> handle = {{0, Vec3(0.02, 0.0, 0.0)}};
+    FrictionSettings settings;
+    settings.max_schur_vertices = max_schur_vertices;
+    settings.tolerance = 0.01;
+    settings.max_iterations = 60;
+    FrictionOutcome outcome;
+    int two_planes = 0;
+    for (int s = 0; s < 90; ++s) {
+      // Every tenth step a different third of the pinched vertices lets go.
+      std::vector<FrictionConstraint> friction;
+      for (std::size_t k = 0; k < all.size(); ++k)
+        if (static_cast<int>(k % 3) != (s / 10) % 3) friction.push_back(all[k]);
+      for (std::size_t k = 0; k < friction.size(); k += 4) {
+        FrictionConstraint second = friction[k];
+        second.normal = tilted;
+        second.surface_velocity = Vec3(0.0, 0.0, 0.01);
+        friction.push_back(second);
+        ++two_planes;
+      }
+      friction[1].squeezed = true;  // (a squeezed vertex touches one plane only)
+      const Vec3 gravity(s < 45 ? 3.0 : -3.0, -kG, 0.0);
+      EXPECT_TRUE(
+          solve_velocities(model, state, kStep, gravity, handle, friction, outcome, settings).ok);
+      advance_positions(state, kStep);
+    }
+    EXPECT_GT(two_planes, 0);
+    return state.v;
+  };
+  const Points schur = run(200), newton = run(0);
+  EXPECT_LT((schur - newton).cwiseAbs().maxCoeff(), 1e-7);
+  EXPECT_GT(schur.cwiseAbs().maxCoeff(), 0.01);
+}
