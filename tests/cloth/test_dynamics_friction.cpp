@@ -221,6 +221,26 @@ TEST(DynamicsFriction, LooseNewtonStepsReachTheSameAnswer) {
   EXPECT_GT(accurate.col(1).maxCoeff() - accurate.col(1).minCoeff(), 0.2);  // it hangs
 }
 
+namespace {
+
+/// The strip solved directly, and friction settings for comparing the Schur complement (up to
+/// `max_schur_vertices` friction vertices) with Newton iterations over the whole cloth, those
+/// converged 100 times tighter than usual.
+ClothModel direct_strip_model() {
+  ClothModel model = build_model(strip_mesh(), strip_material());
+  model.solver.linear_solver = LinearSolver::cholesky;
+  return model;
+}
+FrictionSettings comparison_settings(int max_schur_vertices) {
+  FrictionSettings settings;
+  settings.max_schur_vertices = max_schur_vertices;
+  settings.tolerance = 0.01;
+  settings.max_iterations = 60;
+  return settings;
+}
+
+}  // namespace
+
 TEST(DynamicsFriction, SchurComplementAndNewtonIterationsReachTheSameStep) {
   // The two ways of solving the friction (on the friction vertices' Schur complement, or by
   // Newton iterations over the whole cloth) minimise the same objective, so they must give the
@@ -230,16 +250,12 @@ TEST(DynamicsFriction, SchurComplementAndNewtonIterationsReachTheSameStep) {
   // tighter than usual.
   const ClothMesh mesh = strip_mesh();
   const auto run = [&](int max_schur_vertices) {
-    ClothModel model = build_model(mesh, strip_material());
-    model.solver.linear_solver = LinearSolver::cholesky;
+    const ClothModel model = direct_strip_model();
     ClothState state = make_state(model, mesh.x);
     std::vector<FrictionConstraint> friction = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
     friction[0].squeezed = friction[1].squeezed = true;
     const std::vector<VelocityConstraint> handle = {{0, Vec3(0.02, 0.0, 0.0)}};
-    FrictionSettings settings;
-    settings.max_schur_vertices = max_schur_vertices;
-    settings.tolerance = 0.01;
-    settings.max_iterations = 60;
+    const FrictionSettings settings = comparison_settings(max_schur_vertices);
     FrictionOutcome outcome;
     int stuck = 0, slid = 0, schur_solves = 0;
     for (int s = 0; s < 100; ++s) {
@@ -274,16 +290,12 @@ TEST(DynamicsFriction, SchurComplementAndNewtonAgreeAcrossChangingContactsAndTwo
   // set that changes every few steps, so friction vertices come, go and come back.
   const ClothMesh mesh = strip_mesh();
   const auto run = [&](int max_schur_vertices) {
-    ClothModel model = build_model(mesh, strip_material());
-    model.solver.linear_solver = LinearSolver::cholesky;
+    const ClothModel model = direct_strip_model();
     ClothState state = make_state(model, mesh.x);
     const std::vector<FrictionConstraint> all = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
     const Vec3 tilted = Vec3(0.0, std::sin(0.5), std::cos(0.5));
     const std::vector<VelocityConstraint> handle = {{0, Vec3(0.02, 0.0, 0.0)}};
-    FrictionSettings settings;
-    settings.max_schur_vertices = max_schur_vertices;
-    settings.tolerance = 0.01;
-    settings.max_iterations = 60;
+    const FrictionSettings settings = comparison_settings(max_schur_vertices);
     FrictionOutcome outcome;
     int two_planes = 0;
     for (int s = 0; s < 90; ++s) {

@@ -165,27 +165,41 @@ TEST(RigidPatch, APatchTouchedOnOneSideOrByFlanksOnlyStaysOnTheCloth) {
   EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
 }
 
-TEST(RigidPatch, APatchFittedToTiltedClothIsTurnedToTheFingersItIsSqueezedBetween) {
-  // Cloth crumpled in a pinch: the vertices fit a plane tilted 15° about y, while the pads are
-  // horizontal, 3 mm above and 4 mm below the centre. The box turns flat (a tilted box would
-  // sink its corners into the pads) and keeps its centre's velocity.
+namespace {
+
+/// The lattice's patch fitted to its vertices turned `degrees` about y.
+RigidPatch tilted_patch(double degrees) {
   std::vector<PatchVertex> v = lattice(Vec3::Zero());
-  const Mat3 tilt = Eigen::AngleAxisd(15.0 * M_PI / 180.0, Vec3::UnitY()).toRotationMatrix();
+  const Mat3 tilt = Eigen::AngleAxisd(degrees * M_PI / 180.0, Vec3::UnitY()).toRotationMatrix();
   for (PatchVertex& pv : v) {
     pv.x = tilt * pv.x;
     pv.n = tilt * pv.n;
   }
   std::vector<int> all(v.size());
   std::iota(all.begin(), all.end(), 0);
-  RigidPatch p = build_patch(v, all, 0.010, 0.010);
-  ASSERT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), std::cos(15.0 * M_PI / 180.0), 1e-9);
-  const Vec3 c0 = p.center, v0 = p.linear_velocity;
+  return build_patch(v, all, 0.010, 0.010);
+}
+
+/// Horizontal pads touching the cloth 3 mm above and 4 mm below `c`.
+std::vector<SurfaceTouch> horizontal_pads(const Vec3& c) {
   std::vector<SurfaceTouch> touches;
   for (int k = 0; k < 3; ++k) {
-    touches.push_back({c0 + Vec3(0.004 * k, 0, 0.003), -Vec3::UnitZ()});
-    touches.push_back({c0 + Vec3(0.004 * k, 0.002, -0.004), Vec3::UnitZ()});
+    touches.push_back({c + Vec3(0.004 * k, 0, 0.003), -Vec3::UnitZ()});
+    touches.push_back({c + Vec3(0.004 * k, 0.002, -0.004), Vec3::UnitZ()});
   }
-  centre_between_surfaces(p, touches, 0.0104);
+  return touches;
+}
+
+}  // namespace
+
+TEST(RigidPatch, APatchFittedToTiltedClothIsTurnedToTheFingersItIsSqueezedBetween) {
+  // Cloth crumpled in a pinch: the vertices fit a plane tilted 15° about y, while the pads are
+  // horizontal, 3 mm above and 4 mm below the centre. The box turns flat (a tilted box would
+  // sink its corners into the pads) and keeps its centre's velocity.
+  RigidPatch p = tilted_patch(15.0);
+  ASSERT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), std::cos(15.0 * M_PI / 180.0), 1e-9);
+  const Vec3 c0 = p.center, v0 = p.linear_velocity;
+  centre_between_surfaces(p, horizontal_pads(c0), 0.0104);
   EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
   EXPECT_NEAR(p.center.z() - c0.z(), -0.0005, 1e-12);  // midway between z = +3 and −4 mm
   EXPECT_NEAR(p.center.x() - c0.x(), 0.0, 1e-12);
@@ -198,22 +212,10 @@ TEST(RigidPatch, APatchFittedMoreThanTwentyDegreesOffTheFingersIsStillTurnedToTh
   // cluster): no pad faces the fitted normal within 20°, so the faces are sought about the
   // touches' own median normal, and the box still turns flat between the pads at the thickness
   // asked for. A flank touch at 50° is outvoted.
-  std::vector<PatchVertex> v = lattice(Vec3::Zero());
-  const Mat3 tilt = Eigen::AngleAxisd(25.0 * M_PI / 180.0, Vec3::UnitY()).toRotationMatrix();
-  for (PatchVertex& pv : v) {
-    pv.x = tilt * pv.x;
-    pv.n = tilt * pv.n;
-  }
-  std::vector<int> all(v.size());
-  std::iota(all.begin(), all.end(), 0);
-  RigidPatch p = build_patch(v, all, 0.010, 0.010);
+  RigidPatch p = tilted_patch(25.0);
   ASSERT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), std::cos(25.0 * M_PI / 180.0), 1e-9);
   const Vec3 c0 = p.center;
-  std::vector<SurfaceTouch> touches;
-  for (int k = 0; k < 3; ++k) {
-    touches.push_back({c0 + Vec3(0.004 * k, 0, 0.003), -Vec3::UnitZ()});
-    touches.push_back({c0 + Vec3(0.004 * k, 0.002, -0.004), Vec3::UnitZ()});
-  }
+  std::vector<SurfaceTouch> touches = horizontal_pads(c0);
   touches.push_back(
       {c0 + Vec3(0.012, 0, 0.002),
        Vec3(-(Eigen::AngleAxisd(50.0 * M_PI / 180.0, Vec3::UnitY()) * Vec3::UnitZ()))});
