@@ -121,8 +121,9 @@ inline Vec3 tangential_slip(const FrictionConstraint& f, const ClothState& state
 Vec3 friction_gradient(const Vec3& w, double bound, double eps);
 
 /// Friction of solve_velocities through the Schur complement of the friction vertices (inputs
-/// as for solve_friction_newton): the system is factorised with the vertices of
-/// ws.schur_vertices last, the friction problem is solved on their Schur complement by Newton's
+/// as for solve_friction_newton): the system, turned into the contact frames of the vertices of
+/// ws.schur_vertices, is factorised with their slip coordinates last, the friction problem is
+/// solved on the Schur complement of those coordinates by Newton's
 /// method (reweighted least squares until a slip settles), and one back substitution gives the
 /// other velocities. Leaves Δv in ws.dv; outcome.seconds gets the time of the friction's own
 /// work (ordering, Schur complement, dense Newton), outcome.iterations its dense iterations.
