@@ -45,9 +45,11 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
   d.order.clear();
   d.dof.assign(dofs.begin(), dofs.end());
   std::vector<int> new_of(static_cast<std::size_t>(n), -1);
-  for (int k = 0; k < n; ++k)
-    new_of[static_cast<std::size_t>(dofs[static_cast<std::size_t>(k)])] = k;
-  for (const int k : new_of) DEXCLOTH_DEMAND(k >= 0);  // a permutation
+  for (int k = 0; k < n; ++k) {
+    const int u = dofs[static_cast<std::size_t>(k)];
+    DEXCLOTH_DEMAND(u >= 0 && u < n && new_of[static_cast<std::size_t>(u)] < 0);  // a permutation
+    new_of[static_cast<std::size_t>(u)] = k;
+  }
 
   // Scalar column k, unknown c of vertex j: the rows of its blocks' entries eliminated no later
   // (the upper triangle), in any order (the factorisation does not need them sorted).
@@ -489,13 +491,15 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;
   // A squeezed vertex moves with its surfaces along their normal: every plane it touches is that
   // one (the Schur complement's slip coordinates leave its normal to the elimination).
-  ws.squeezed_normal.assign(static_cast<std::size_t>(nv), Vec3::Zero());
+  ws.squeezed_normal.resize(static_cast<std::size_t>(nv), Vec3::Zero());  // zero between solves
   for (const FrictionConstraint& f : friction)
     if (f.squeezed) ws.squeezed_normal[static_cast<std::size_t>(f.vertex)] = f.normal;
   for (const FrictionConstraint& f : friction) {
     const Vec3& n = ws.squeezed_normal[static_cast<std::size_t>(f.vertex)];
     DEXCLOTH_DEMAND(n.squaredNorm() == 0.0 || n.cross(f.normal).norm() < 1e-6);
   }
+  for (const FrictionConstraint& f : friction)
+    ws.squeezed_normal[static_cast<std::size_t>(f.vertex)] = Vec3::Zero();
   const std::size_t nf = friction.size();
   const double eps = settings.stick_velocity;
   const auto active = [&](std::size_t k) {

@@ -50,7 +50,7 @@ struct DynamicsWorkspace {
   std::vector<VelocityConstraint> solve_constraints;  ///< a friction solve's, squeezed normals too
   std::vector<Vec3> last_slip;  ///< each friction vertex's slip at the last Newton iterate
   std::vector<char> held;       ///< |V| flags of vertices held by the caller's velocity constraints
-  std::vector<Vec3> squeezed_normal;  ///< |V|: a squeezed vertex's normal, else zero
+  std::vector<Vec3> squeezed_normal;  ///< |V| scratch: a squeezed vertex's normal, else zero
   std::vector<char> active;           ///< per friction constraint: 1 unless its vertex is held
   Eigen::VectorXd dv_iterate;         ///< friction Newton: current iterate
   Eigen::VectorXd dv_step;            ///< friction Newton: step to the next iterate
@@ -72,8 +72,8 @@ struct DynamicsWorkspace {
   std::vector<std::pair<int, Mat3>> schur_saved_blocks;  ///< blocks before the frames' rotation
   std::vector<std::pair<int, Vec3>> schur_saved_rhs;     ///< right-hand sides before it
   Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton
-  Eigen::MatrixXd schur_Syy, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
-  Eigen::VectorXd schur_c, schur_cy, schur_zr, schur_tail;
+  Eigen::MatrixXd schur_Sxx, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
+  Eigen::VectorXd schur_c, schur_cx, schur_zr, schur_tail;
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
   // Assembly on several threads (none for one).
   std::vector<AssemblyPart> assembly_parts;

@@ -187,8 +187,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   // z_r = L_r⁻¹·c_r: S_xx − WᵀW and c_x − Wᵀz_r.
   const std::vector<int>& fidx = ws.schur_fidx;
   const std::vector<int>& ridx = ws.schur_ridx;
-  ws.schur_Syy = ws.schur_S(fidx, fidx);
-  ws.schur_cy = ws.schur_c(fidx);
+  ws.schur_Sxx = ws.schur_S(fidx, fidx);
+  ws.schur_cx = ws.schur_c(fidx);
   if (!ridx.empty()) {
     ws.schur_Lr = ws.schur_S(ridx, ridx);
     if (!cholesky_lower(ws.schur_Lr)) {  // not expected: S is SPD
@@ -200,8 +200,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     solve_lower(ws.schur_Lr, ws.schur_W);
     ws.schur_zr = ws.schur_c(ridx);
     solve_lower(ws.schur_Lr, ws.schur_zr);
-    subtract_gram(ws.schur_W, ws.schur_Syy);
-    ws.schur_cy.noalias() -= ws.schur_W.transpose() * ws.schur_zr;
+    subtract_gram(ws.schur_W, ws.schur_Sxx);
+    ws.schur_cx.noalias() -= ws.schur_W.transpose() * ws.schur_zr;
   }
   // Warm start: the last step's Δv in the frames.
   ws.schur_x.resize(q);
@@ -209,19 +209,19 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     if (qoff[a] >= 0)
       ws.schur_x.segment(qoff[a], dofs(a)) =
           axes(a).transpose() * ws.dv_iterate.segment<3>(3 * F[a]);
-  // Slip of friction constraint k at the slip coordinates y.
-  const auto slip = [&](std::size_t k, const Eigen::VectorXd& y) {
+  // Slip of friction constraint k at the slip coordinates x.
+  const auto slip = [&](std::size_t k, const Eigen::VectorXd& x) {
     const FrictionConstraint& f = friction[k];
     const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(f.vertex)]);
     const Vec3 w = state.v.row(f.vertex).transpose() - f.surface_velocity +
-                   axes(a) * y.segment(qoff[a], dofs(a));
+                   axes(a) * x.segment(qoff[a], dofs(a));
     return Vec3(w - f.normal.dot(w) * f.normal);
   };
-  const auto objective = [&](const Eigen::VectorXd& y) {
-    double e = 0.5 * y.dot(ws.schur_Syy * y) - ws.schur_cy.dot(y);
+  const auto objective = [&](const Eigen::VectorXd& x) {
+    double e = 0.5 * x.dot(ws.schur_Sxx * x) - ws.schur_cx.dot(x);
     for (std::size_t k = 0; k < friction.size(); ++k) {
       if (!active[k]) continue;
-      const double s = slip(k, y).norm();
+      const double s = slip(k, x).norm();
       e += friction[k].max_impulse * (s < eps ? 0.5 * s * s / eps + 0.5 * eps : s);
     }
     return e;
@@ -231,8 +231,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   double e_current = objective(ws.schur_x);
   const int max_iterations = 20 * settings.max_iterations;
   for (; iterations < max_iterations;) {
-    ws.schur_K = ws.schur_Syy;
-    ws.schur_r.noalias() = ws.schur_cy - ws.schur_Syy * ws.schur_x;
+    ws.schur_K = ws.schur_Sxx;
+    ws.schur_r.noalias() = ws.schur_cx - ws.schur_Sxx * ws.schur_x;
     for (std::size_t k = 0; k < friction.size(); ++k) {
       if (!active[k]) continue;
       const FrictionConstraint& f = friction[k];

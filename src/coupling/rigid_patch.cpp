@@ -236,6 +236,13 @@ double median(std::vector<double>& values) {
   return 0.5 * (*mid + *std::max_element(values.begin(), mid));
 }
 
+/// The component-wise median of unit vectors given by their x, y and z components (reordered),
+/// normalised; zero if that median is zero.
+Vec3 median_direction(std::array<std::vector<double>, 3>& components) {
+  const Vec3 m(median(components[0]), median(components[1]), median(components[2]));
+  return m.norm() > 0.0 ? Vec3(m.normalized()) : Vec3::Zero();
+}
+
 /// Surfaces within this angle of the patch normal carry its faces [deg].
 constexpr double kFacingDeg = 20.0;
 /// Share of a cluster's touches that must face one way for it to count as pressed from one side.
@@ -274,26 +281,24 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
     // The fitted plane may tilt beyond kFacingDeg from the fingers (a fold bent round a pad's
     // edge joined the cluster; in a carried pinch it tilted 23° and the box, left thinner and
     // askew between the pads, let them close and the sheet go): then look for the faces about
-    // the touches' own mean direction (component-wise median of their normals, each turned to
-    // the patch's side).
+    // the touches' own median direction (their normals each turned to the patch's side).
     if (touches.empty()) return;
     std::array<std::vector<double>, 3> turned;
     for (const SurfaceTouch& t : touches) {
       const Vec3 m = t.normal.dot(patch.R.col(2)) >= 0.0 ? t.normal : Vec3(-t.normal);
       for (int k = 0; k < 3; ++k) turned[static_cast<std::size_t>(k)].push_back(m[k]);
     }
-    const Vec3 m(median(turned[0]), median(turned[1]), median(turned[2]));
-    if (!(m.norm() > 0.0)) return;
-    f = facing_surfaces(touches, patch.center, m.normalized());
+    const Vec3 m = median_direction(turned);
+    if (m.squaredNorm() == 0.0) return;
+    f = facing_surfaces(touches, patch.center, m);
     if (f.above.empty() || f.below.empty()) return;
   }
   // Turn the box to the surfaces' mean plane: the plane fitted to crumpled cloth in a pinch tilts
   // by up to 20°, and the corners of a tilted box sink millimetres deep into a finger, which
   // then takes the box's contact on an edge instead of squeezing it flat.
-  Vec3 n(median(f.normals[0]), median(f.normals[1]), median(f.normals[2]));
-  n.normalize();
+  Vec3 n = median_direction(f.normals);
   FacingSurfaces turned = facing_surfaces(touches, patch.center, n);
-  if (std::isfinite(n.norm()) && !turned.above.empty() && !turned.below.empty()) {
+  if (!turned.above.empty() && !turned.below.empty()) {  // (none for a zero n)
     patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
     f = std::move(turned);
   } else {

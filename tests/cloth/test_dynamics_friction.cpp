@@ -319,6 +319,7 @@ TEST(DynamicsFriction, SchurComplementAndNewtonAgreeAcrossChangingContactsAndTwo
     EXPECT_GT(two_planes, 0);
     return state.v;
   };
+  // Newton stops once no velocity changes by tolerance·ε = 1e-6 m/s; a tenth of that.
   const Points schur = run(200), newton = run(0);
   EXPECT_LT((schur - newton).cwiseAbs().maxCoeff(), 1e-7);
   EXPECT_GT(schur.cwiseAbs().maxCoeff(), 0.01);
