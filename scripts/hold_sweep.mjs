@@ -10,6 +10,8 @@
 //   node scripts/hold_sweep.mjs scenes/pinch_move.json [--runs 20] [--jobs 2] [--threads 1]
 //                [--seed 1] [--exe build/dexcloth] [--out out/sweep] [--set /ptr=value ...]
 //   node scripts/hold_sweep.mjs scenes/curtain_hand.json --from 0.8 --rise -1   (a sideways pull)
+//   node scripts/hold_sweep.mjs scenes/pinch_move.json --only 10,13   (those starts of the
+//                same seeded sweep, alone: to look again at a run that dropped)
 // (--threads: each run's; the runs' results do not depend on it.)
 import { spawn } from "node:child_process";
 import { mkdirSync, readFileSync } from "node:fs";
@@ -24,10 +26,17 @@ const option = (name, fallback) => {
 };
 const scenePath = args.find((a, k) => !a.startsWith("--") && (k === 0 || !args[k - 1].startsWith("--")));
 if (!scenePath) {
-  console.error("usage: node scripts/hold_sweep.mjs <scene.json> [--runs N] [--jobs J] [--threads T] [--seed S] [--exe PATH] [--out DIR] [--from S] [--rise M] [--set /ptr=value ...]");
+  console.error("usage: node scripts/hold_sweep.mjs <scene.json> [--runs N] [--only K,...] [--jobs J] [--threads T] [--seed S] [--exe PATH] [--out DIR] [--from S] [--rise M] [--set /ptr=value ...]");
   process.exit(2);
 }
-const runs = Number(option("--runs", "20"));
+const only = option("--only", "") === "" ? null : option("--only", "").split(",").map(Number);
+if (only && only.some((k) => !Number.isInteger(k) || k < 0)) {
+  console.error(`--only: expected start numbers such as 3,10, got '${option("--only", "")}'`);
+  process.exit(2);
+}
+// Starts are drawn in order from the seeded generator, so start k is the same whatever the count.
+const runs = only ? Math.max(...only) + 1 : Number(option("--runs", "20"));
+const chosen = only ?? Array.from({ length: runs }, (_, k) => k);
 const jobs = Number(option("--jobs", "2"));
 const threads = option("--threads", "1");
 const seed = Number(option("--seed", "1"));
@@ -130,8 +139,8 @@ function runOne(r) {
 const results = [];
 let next = 0;
 async function worker() {
-  while (next < runs) {
-    const r = next++;
+  while (next < chosen.length) {
+    const r = chosen[next++];
     const res = await runOne(r);
     results.push(res);
     const line = res.failed
@@ -147,6 +156,6 @@ const done = results.filter((x) => !x.failed);
 const held = done.filter((x) => x.held).length;
 const worst = Math.max(...done.map((x) => x.farthest));
 const minRise = Math.min(...done.map((x) => x.rise));
-console.log(`${name}: ${held}/${runs} held, ${done.length - held} dropped, ${runs - done.length} failed; ` +
+console.log(`${name}: ${held}/${chosen.length} held, ${done.length - held} dropped, ${chosen.length - done.length} failed; ` +
             `worst pinched-point distance ${(1e3 * worst).toFixed(1)} mm, least rise ${(1e2 * minRise).toFixed(1)} cm`);
-process.exit(held === runs ? 0 : 1);
+process.exit(held === chosen.length ? 0 : 1);
