@@ -178,7 +178,13 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     s.X_WP.linear() = patch.R;
     s.X_WP.translation() = patch.center;
     s.v_W = patch.linear_velocity;
-    s.w_W = patch.angular_velocity;
+    // Placed without turning. The rotation fitted to a flat cluster's vertex velocities mostly
+    // measures how the cloth deforms (squeezed, rippling), not a turn: in a carried pinch it
+    // tilted the box at about 1 rad/s (up to 8), so at the pads' contacts, 12 mm apart across
+    // the box, the box drew away from both at 2–4 cm/s, DART needed no force to keep them out,
+    // and the squeeze fell from 0.3–0.9 N to 0.005 N until the sheet slid out. The box still
+    // turns as the contacts turn it, and is refitted from the cloth every step.
+    s.w_W = Vec3::Zero();
     s.mass = patch.mass;
     // Patches of one layer never collide; patches of other cloths (stacked) press on each other.
     s.layer = *std::min_element(patch.cloths.begin(), patch.cloths.end());

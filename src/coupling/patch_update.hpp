@@ -9,7 +9,8 @@ namespace dexcloth::coupling {
 /// Rebuilds data.patches from the cloth vertices touching actuated rigid bodies (the hand, the
 /// gripper: a static prop needs no patch to know about the cloth) and places them in DART's patch
 /// pool for the coming rigid step; every other pool patch is deactivated. Uses x1 of the cloth
-/// meshes (the end-of-step positions) and (x1 − x0)/h as velocities. A patch is 2 × the
+/// meshes (the end-of-step positions) and (x1 − x0)/h as velocities; the boxes start the rigid
+/// step without turning (the rotation fitted to the cloth is its deformation more than a turn). A patch is 2 × the
 /// repulsion thickness thick (the cloth with its two repulsion layers); one whose cloth touches
 /// bodies on both sides (a pinch) is centred between them and made thicker by DART's contact
 /// allowance on each side, less 1 % of the thickness, so the bodies rest just inside the

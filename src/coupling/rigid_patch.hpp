@@ -30,7 +30,8 @@ struct RigidPatch {
   Vec3 size{Vec3::Zero()};              ///< full extents along u, v, n [m]
   double mass{};                        ///< sum of the vertex masses [kg]
   Vec3 linear_velocity{Vec3::Zero()};   ///< velocity of the box centre [m/s]
-  Vec3 angular_velocity{Vec3::Zero()};  ///< [rad/s]
+  Vec3 angular_velocity{Vec3::Zero()};  ///< fitted to the cloth [rad/s]; DART's box starts
+                                        ///< without it (update_patches)
   std::vector<int> vertices;  ///< indices into the builder's input (cloth vertices once placed)
   std::vector<int> cloths;    ///< cloth mesh of each vertex, once placed
 };

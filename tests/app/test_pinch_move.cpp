@@ -3,7 +3,14 @@
 /// the suite (about 2 minutes on one core).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include "cli_runner.hpp"
+#include "coupling/step.hpp"
+#include "scene/compile.hpp"
+#include "scene/load.hpp"
 
 using namespace dexcloth::test;
 
@@ -40,4 +47,73 @@ TEST(PinchMove, KinematicBaselineLetsTheSheetSlipOut) {
   EXPECT_GT(probe_distance(pinched.back(), thumb.back()), 0.05);
   EXPECT_EQ(s["patches_max"], 0);
   EXPECT_EQ(s["nan"], false);
+}
+
+namespace {
+
+/// Start 10 of `node scripts/hold_sweep.mjs scenes/pinch_move.json` (seed 1): the sheet shifted
+/// by 0.47, 0.07 and 0.49 mm and turned by −0.067°, the hand's path shifted by −0.11, −0.38 and
+/// −0.10 mm and turned by −0.070°: the one start of that sweep that dropped the sheet on 4 Dec
+/// (its pads had closed to 9.0 mm by 1.4 s, inside the 10.4 mm pinched patch).
+const std::vector<std::string> kLowGapStart{
+    "/cloths/0/transform/"
+    "translation=[0.00047444060759153217,0.00006596029130741954,0.004488941288436763]",
+    "/cloths/0/transform/rotation_deg=[0,0,-0.06739743691869081]",
+    "/bodies/0/root/translation=[0.23258835551869123,0.17851759762698785,0.403101242581429]",
+    "/bodies/0/root/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/0/"
+    "translation=[0.23258835551869123,0.17851759762698785,0.403101242581429]",
+    "/bodies/0/controller/wrist/keyframes/0/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/1/"
+    "translation=[0.23258835551869123,0.17851759762698785,0.403101242581429]",
+    "/bodies/0/controller/wrist/keyframes/1/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/2/"
+    "translation=[0.23258835551869123,0.17851759762698785,0.283101242581429]",
+    "/bodies/0/controller/wrist/keyframes/2/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/3/"
+    "translation=[0.23258835551869123,0.17851759762698785,0.283101242581429]",
+    "/bodies/0/controller/wrist/keyframes/3/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/4/"
+    "translation=[0.23258835551869123,0.17851759762698785,0.43310124258142896]",
+    "/bodies/0/controller/wrist/keyframes/4/rotation_deg=[0,0,173.02972996914758]",
+    "/bodies/0/controller/wrist/keyframes/5/"
+    "translation=[-0.03981164448130876,0.24611759762698784,0.43310124258142896]",
+    "/bodies/0/controller/wrist/keyframes/5/rotation_deg=[0,0,233.02972996914758]"};
+
+}  // namespace
+
+TEST(PinchMove, ThePadsSqueezeTheSheetAtEveryStepFromALowGapStart) {
+  // In this start, before patches went to DART without the rotation fitted to their cloth, the
+  // fit tilted the pinched patch at ~1 rad/s, so it drew away from both pads at their contacts
+  // 12 mm apart and DART's squeeze fell to 0.001–0.005 N at 6 steps after the release (and 0.004
+  // N on average while the pads closed, 1.3–1.4 s); the sheet slid out during the carry. Now the
+  // squeeze stays at 0.29 N or more from 1.42 s to the end of the lift (2.0 s), 0.71 N on average.
+  // Required: at least half of N* = m g / (2 μ), the least squeeze that holds the sheet, at every
+  // step from 20 ms after the release.
+  namespace rigid = dexcloth::rigid;
+  const dexcloth::scene::SceneSpec spec = dexcloth::scene::load_scene(
+      (source_dir() / "scenes" / "pinch_move.json").string(), kLowGapStart);
+  dexcloth::scene::CompiledScene scene = dexcloth::scene::compile_scene(spec);
+  dexcloth::coupling::WorldData& data = scene.data;
+  rigid::RigidWorld& world = *data.rigid.world;
+  const rigid::BodyId thumb = world.body("hand/thumb_distal");
+  std::vector<rigid::BodyId> patches;
+  for (int k = 0; k < world.patches().capacity(); ++k) patches.push_back(world.patches().body(k));
+  const double mu = 0.5;  // sheet and hand (the scene's "friction")
+  const double n_star = data.meshes[0].mass.sum() * -spec.gravity.z() / (2.0 * mu);
+  ASSERT_NEAR(n_star, 0.13, 0.005);
+  double least = 1e9, least_at = 0.0;
+  while (data.time < 2.0 - 1e-9) {
+    dexcloth::coupling::step(scene.model, data);
+    ASSERT_FALSE(data.lost) << "state lost at step " << data.step;
+    if (data.time < 1.42 - 1e-9) continue;
+    double squeeze = 0.0;  // the patches' normal force on the thumb pad [N]
+    for (const rigid::ContactPoint& c : world.contacts(thumb))
+      if (std::find(patches.begin(), patches.end(), c.other) != patches.end()) squeeze += c.f_n;
+    if (squeeze < least) {
+      least = squeeze;
+      least_at = data.time;
+    }
+  }
+  EXPECT_GT(least, 0.5 * n_star) << "the squeeze fell to " << least << " N at t = " << least_at;
 }
