@@ -11,7 +11,8 @@
 //                [--seed 1] [--exe build/dexcloth] [--out out/sweep] [--set /ptr=value ...]
 //   node scripts/hold_sweep.mjs scenes/curtain_hand.json --from 0.8 --rise -1   (a sideways pull)
 //   node scripts/hold_sweep.mjs scenes/pinch_move.json --only 10,13   (those starts of the
-//                same seeded sweep, alone: to look again at a run that dropped)
+//                same seeded sweep, alone: to look again at a run that dropped; --runs is then
+//                ignored)
 // (--threads: each run's; the runs' results do not depend on it.)
 import { spawn } from "node:child_process";
 import { mkdirSync, readFileSync } from "node:fs";

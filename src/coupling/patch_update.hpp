@@ -10,14 +10,14 @@ namespace dexcloth::coupling {
 /// gripper: a static prop needs no patch to know about the cloth) and places them in DART's patch
 /// pool for the coming rigid step; every other pool patch is deactivated. Uses x1 of the cloth
 /// meshes (the end-of-step positions) and (x1 − x0)/h as velocities; the boxes start the rigid
-/// step without turning (the rotation fitted to the cloth is its deformation more than a turn). A patch is 2 × the
-/// repulsion thickness thick (the cloth with its two repulsion layers); one whose cloth touches
-/// bodies on both sides (a pinch) is centred between them and made thicker by DART's contact
-/// allowance on each side, less 1 % of the thickness, so the bodies rest just inside the
-/// repulsion layers. The vertices of all cloths are clustered together, so cloths stacked
-/// between two fingers make one patch, as thick as n + 1 repulsion thicknesses for its n cloth
-/// layers (those it holds and those they touch, the middle layers that touch no finger); its
-/// vertices carry their cloth (RigidPatch::cloths). Returns the number of active patches.
+/// step without turning (the rotation fitted to the cloth is its deformation more than a turn).
+/// A patch is 2 × the repulsion thickness thick (the cloth with its two repulsion layers); one
+/// whose cloth touches bodies on both sides (a pinch) is centred between them and made thicker
+/// by DART's contact allowance on each side, less 1 % of the thickness, so the bodies rest just
+/// inside the repulsion layers. The vertices of all cloths are clustered together, so cloths
+/// stacked between two fingers make one patch, as thick as n + 1 repulsion thicknesses for its n
+/// cloth layers (those it holds and those they touch, the middle layers that touch no finger);
+/// its vertices carry their cloth (RigidPatch::cloths). Returns the number of active patches.
 int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data);
 
 /// The normal a cloth vertex is clustered by (δn, δd of eqs. 10–11): the mean of the normals of
