@@ -30,9 +30,10 @@ if (!scenePath) {
   console.error("usage: node scripts/hold_sweep.mjs <scene.json> [--runs N] [--only K,...] [--jobs J] [--threads T] [--seed S] [--exe PATH] [--out DIR] [--from S] [--rise M] [--set /ptr=value ...]");
   process.exit(2);
 }
-const only = option("--only", "") === "" ? null : option("--only", "").split(",").map(Number);
+const onlyText = option("--only", "");
+const only = onlyText === "" ? null : onlyText.split(",").map(Number);
 if (only && only.some((k) => !Number.isInteger(k) || k < 0)) {
-  console.error(`--only: expected start numbers such as 3,10, got '${option("--only", "")}'`);
+  console.error(`--only: expected start numbers such as 3,10, got '${onlyText}'`);
   process.exit(2);
 }
 // Starts are drawn in order from the seeded generator, so start k is the same whatever the count.

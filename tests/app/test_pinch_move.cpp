@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "cloth/collision/collision_mesh.hpp"
 #include "coupling/step.hpp"
 #include "scene/compile.hpp"
 #include "scene/load.hpp"
@@ -99,7 +100,13 @@ TEST(PinchMove, ThePadsSqueezeTheSheetAtEveryStepFromALowGapStart) {
   const rigid::BodyId thumb = world.body("hand/thumb_distal");
   std::vector<rigid::BodyId> patches;
   for (int k = 0; k < world.patches().capacity(); ++k) patches.push_back(world.patches().body(k));
-  const double mu = 0.5;  // sheet and hand (the scene's "friction")
+  // μ of the sheet against the thumb, from the collision meshes (cloths first, then bodies).
+  std::size_t thumb_mesh = 0;
+  for (std::size_t m = 0; m < data.rigid.meshes.size(); ++m)
+    if (data.rigid.meshes[m].name == "hand/thumb_distal")
+      thumb_mesh = scene.model.cloths.size() + m;
+  ASSERT_GT(thumb_mesh, 0u);
+  const double mu = dexcloth::collision::pair_friction(data.meshes[0], data.meshes[thumb_mesh]);
   const double n_star = data.meshes[0].mass.sum() * -spec.gravity.z() / (2.0 * mu);
   ASSERT_NEAR(n_star, 0.13, 0.005);
   double least = 1e9, least_at = 0.0;
