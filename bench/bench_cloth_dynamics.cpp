@@ -16,7 +16,8 @@
 ///                     Newton over the whole cloth (friction_newton.cpp). Counters:
 ///                     friction_ms (the friction's own time per step), newton (its iterations).
 /// Arguments: vertices per side, SolverSettings::threads. Counters: PCG iterations per step,
-/// triangles, vertices. Run (Release):
+/// triangles, vertices; for the direct solve the factorisation's MFLOP, the entries of L and the
+/// share of the flops in the subtrees the threads share out. Run (Release):
 ///   build/bench/bench_cloth_dynamics
 /// The sheet is first simulated for kSettleSteps steps so that the timed steps see a deformed,
 /// moving sheet rather than the flat rest state.
@@ -106,6 +107,12 @@ void BM_ClothSolve(benchmark::State& bench) {
   }
   bench.counters["pcg_iterations"] =
       benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+  if (s.model.solver.linear_solver == cloth::LinearSolver::cholesky) {
+    const cloth::SparseCholesky& factor = ws.direct.cholesky;
+    bench.counters["factor_mflop"] = factor.factor_flops() / 1e6;
+    bench.counters["factor_nnz"] = static_cast<double>(factor.factor_nonzeros());
+    bench.counters["parallel_share"] = factor.parallel_share();
+  }
   set_size_counters(bench, s.model);
 }
 
