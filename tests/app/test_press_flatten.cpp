@@ -26,14 +26,20 @@ TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   const Heights heap = heights_at(frames, 1.5);
   EXPECT_GT(heap.max, 0.03);
   EXPECT_GT(heap.mean, 0.012);
-  // Pressed: the palm's lower face comes down to 1.4–1.9 cm and the napkin under it to 8–12.5
-  // mm on average, 2.5–10 mm lower than the heap was.
+  // Pressed: the palm's lower face comes down below 2.5 cm and the napkin's mean height falls by
+  // a sixth at least. Over the scene's start and six perturbed ones (shifted ±0.5 mm in x and
+  // y, turned −1, 1, 2°), with this machine's BLAS kernels and with OPENBLAS_CORETYPE=Cooperlake
+  // (4 Dec): the palm reached 14.2–20.0 mm and the mean fell to 0.32–0.79 of the heap's, by
+  // 3.4–25 mm. The heap's own height is chance: 12.8 mm on average here in the scene's start,
+  // 24.4 mm with the Cooperlake kernels, which pressed it to 15.5 mm (a bound of 14 mm, asserted
+  // before, failed there). Without the hand (the wrist kept up) the mean rose by 3 and 23 %
+  // from 1.5 to 2.5 s.
   double lowest_palm = 1.0;
   for (const auto& row : r.summary["probes"]["palm"])
     lowest_palm = std::min(lowest_palm, row[3].get<double>());
   EXPECT_LT(lowest_palm, 0.025);
   const Heights pressed = heights_at(frames, 2.5);
-  EXPECT_LT(pressed.mean, 0.014);
+  EXPECT_LT(pressed.mean, 0.85 * heap.mean);
   EXPECT_LT(pressed.mean, heap.mean - 0.002);
   // Not asserted: what the napkin does as the hand rises. On the first machine, before vertices
   // found inside a body were moved out, it was left flat in none of the same six starts: folds
