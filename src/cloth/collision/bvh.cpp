@@ -90,6 +90,7 @@ struct BvhTraversal {
   const std::vector<Bvh::Node>& nb;
   const Triangles* faces;  // set for a self query that skips adjacent faces
   std::vector<FacePair>& out;
+  const std::vector<std::uint8_t>* skip_self{};  // per node: leave out pairs within its subtree
 
   static bool overlap(const Bvh::Node& p, const Bvh::Node& q) {
     return p.lo[0] <= q.hi[0] && q.lo[0] <= p.hi[0] && p.lo[1] <= q.hi[1] && q.lo[1] <= p.hi[1] &&
@@ -129,6 +130,7 @@ struct BvhTraversal {
   void self(int i) {
     const Bvh::Node& n = na[static_cast<std::size_t>(i)];
     if (n.face >= 0) return;
+    if (skip_self != nullptr && (*skip_self)[static_cast<std::size_t>(i)] != 0) return;
     self(i + 1);
     self(n.right);
     pair(i + 1, n.right);
@@ -137,18 +139,19 @@ struct BvhTraversal {
 
 void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out) {
   if (a.empty() || b.empty()) return;
-  BvhTraversal t{a.m_nodes, b.m_nodes, nullptr, out};
+  BvhTraversal t{a.m_nodes, b.m_nodes, nullptr, out, nullptr};
   t.pair(0, 0);
 }
 
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out) {
   if (bvh.empty()) return;
-  BvhTraversal t{bvh.m_nodes, bvh.m_nodes, skip_adjacent ? &faces : nullptr, out};
+  BvhTraversal t{bvh.m_nodes, bvh.m_nodes, skip_adjacent ? &faces : nullptr, out, nullptr};
   t.self(0);
 }
 
-void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out) {
+void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
+                 const std::vector<std::uint8_t>* skip_self) {
   out.clear();
   if (a.empty() || b.empty()) return;
   out.push_back({0, 0, self});
@@ -159,7 +162,10 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
   // none for a pair of disjoint boxes or of two leaves, which split no further.
   const auto size = [&](const BvhQuery& q) {
     const Bvh::Node& p = na[static_cast<std::size_t>(q.i)];
-    if (q.self) return p.face >= 0 ? 0.0 : static_cast<double>(p.faces) * p.faces;
+    if (q.self) {
+      const bool skipped = skip_self != nullptr && (*skip_self)[static_cast<std::size_t>(q.i)] != 0;
+      return p.face >= 0 || skipped ? 0.0 : static_cast<double>(p.faces) * p.faces;
+    }
     const Bvh::Node& r = nb[static_cast<std::size_t>(q.j)];
     if ((p.face >= 0 && r.face >= 0) || !BvhTraversal::overlap(p, r)) return 0.0;
     return static_cast<double>(p.faces) * r.faces;
@@ -194,17 +200,18 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
 }
 
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out) {
+                        std::vector<BvhQuery>& out, const std::vector<std::uint8_t>* skip_self) {
   const bool threaded = pool != nullptr && pool->threads() > 1 &&
                         std::min(a.num_faces(), b.num_faces()) >= kParallelQueryFaces;
-  split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out);
+  split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out, skip_self);
   return threaded ? pool : nullptr;
 }
 
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out) {
+               std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self) {
   if (a.empty() || b.empty()) return;
-  BvhTraversal t{a.m_nodes, b.m_nodes, faces, out};
+  DEXCLOTH_DEMAND(skip_self == nullptr || (&a == &b && skip_self->size() == a.m_nodes.size()));
+  BvhTraversal t{a.m_nodes, b.m_nodes, faces, out, skip_self};
   if (query.self) {
     t.self(query.i);
   } else {

@@ -1,6 +1,7 @@
 #pragma once
 /// Axis-aligned bounding volume hierarchy over a mesh's triangles: built once, refit every step
 /// (or every response iteration) with the swept boxes of the triangles' motion x0 → x1.
+#include <cstdint>
 #include <vector>
 
 #include "core/types.hpp"
@@ -40,6 +41,15 @@ class Bvh {
   int num_faces() const { return m_num_faces; }
   /// True when the tree holds no face.
   bool empty() const { return m_nodes.empty(); }
+  /// Number of nodes (2·faces − 1). A node's left child is the next node, so children come after
+  /// their parent and a reverse sweep sees every node's children before it.
+  int num_nodes() const { return static_cast<int>(m_nodes.size()); }
+  /// The face of leaf `node`, or -1 for an inner node.
+  int leaf_face(int node) const { return m_nodes[static_cast<std::size_t>(node)].face; }
+  /// The right child of inner node `node` (its left child is node + 1).
+  int right_child(int node) const { return m_nodes[static_cast<std::size_t>(node)].right; }
+  /// Faces under `node`; its subtree is the nodes [node, node + 2·faces − 1).
+  int subtree_faces(int node) const { return m_nodes[static_cast<std::size_t>(node)].faces; }
 
   /// Appends to `out` every pair (face of `a`, face of `b`) whose boxes overlap.
   friend void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
@@ -48,19 +58,23 @@ class Bvh {
   friend void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                                      std::vector<FacePair>& out);
   /// Splits the query of overlapping_faces(a, b) (or, with `self` and b the same tree as a, of
-  /// self_overlapping_faces(a)) into at least `pieces` pieces where the trees allow, the biggest split first, such that
-  /// the pieces' outputs (run_query), concatenated in order, are the whole query's in its order.
+  /// self_overlapping_faces(a)) into at least `pieces` pieces where the trees allow, the biggest
+  /// split first, such that the pieces' outputs (run_query, given the same `skip_self`),
+  /// concatenated in order, are the whole query's in its order. A skipped node is not split.
   friend void split_query(const Bvh& a, const Bvh& b, bool self, int pieces,
-                          std::vector<BvhQuery>& out);
+                          std::vector<BvhQuery>& out, const std::vector<std::uint8_t>* skip_self);
   /// The same split for running on `pool` (null: one thread): into kPiecesPerThread pieces per
   /// thread when the query's smaller tree holds kParallelQueryFaces faces or more (waking the
   /// pool costs tens of µs), else one. Returns the pool to run the pieces on, or null.
   friend WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                                 std::vector<BvhQuery>& out);
+                                 std::vector<BvhQuery>& out,
+                                 const std::vector<std::uint8_t>* skip_self);
   /// Appends the pairs of one piece of a query to `out` (skipping faces adjacent in `faces`
-  /// when it is not null, as self_overlapping_faces with skip_adjacent).
+  /// when it is not null, as self_overlapping_faces with skip_adjacent). With `skip_self` (one
+  /// flag per node of a self query's tree), the pairs within a flagged node's subtree are left
+  /// out: the caller has shown that none of them matters.
   friend void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-                        std::vector<FacePair>& out);
+                        std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self);
 
  private:
   struct Node {
@@ -83,10 +97,12 @@ class Bvh {
 void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out);
-void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out);
+void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
+                 const std::vector<std::uint8_t>* skip_self = nullptr);
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out);
+                        std::vector<BvhQuery>& out,
+                        const std::vector<std::uint8_t>* skip_self = nullptr);
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out);
+               std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self = nullptr);
 
 }  // namespace dexcloth::collision

@@ -58,6 +58,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       topo = build_topology(mesh.faces, static_cast<int>(mesh.x0.rows()));
       m_bvh[m].build(mesh.faces, mesh.x0, x1, margin);
       if (m_rest.size() > m) m_rest[m] = RestNeighbours();
+      if (m_unfolded.size() > m) m_unfolded[m] = UnfoldedSubtrees();
     } else {
       m_bvh[m].refit(mesh.faces, mesh.x0, x1, margin);
     }
@@ -69,6 +70,25 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     if (m_rest_distance > 0.0 && m_rest[m].distance() != m_rest_distance && mesh.rest.rows() > 0 &&
         mesh.self_collision)
       m_rest[m].build(mesh.rest, mesh.faces, m_topology[m], m_rest_distance);
+  }
+  // Subtrees of each self-colliding cloth with a rest shape that hold no pair the search must
+  // find: no two primitives within 2·margin unless they share a vertex (swept, over the motion)
+  // or are rest neighbours (proximity).
+  m_unfolded.resize(nm);
+  m_skip_self.assign(nm, nullptr);
+  for (std::size_t m = 0; m < nm; ++m) {
+    const CollisionMesh& mesh = *meshes[m];
+    if (mesh.obstacle || !mesh.self_collision || mesh.rest.rows() == 0) continue;
+    if (!swept && rest_neighbours(static_cast<int>(m)) == nullptr) continue;
+    UnfoldedSubtrees& unfolded = m_unfolded[m];
+    if (!unfolded.built_for(m_bvh[m])) unfolded.build(mesh.rest, mesh.faces, m_bvh[m]);
+    if (swept) {
+      unfolded.update_swept(m_bvh[m], mesh.faces, m_topology[m], mesh.x0, mesh.x1, 2.0 * margin,
+                            m_pool);
+    } else {
+      unfolded.update(m_bvh[m], mesh.faces, mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
+    }
+    m_skip_self[m] = &unfolded.flags();
   }
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
   m_vertex_boxes.resize(nm);
@@ -130,7 +150,9 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   // (the order of the whole query, whichever thread ran a piece). The pieces' work is far from
   // even (a sheet's self query is mostly within halves, little between them: handed out
   // round-robin, one of two threads did three quarters of pinch_move's).
-  WorkerPool* pool = split_query(ta, tb, self, m_pool, m_queries);
+  const std::vector<std::uint8_t>* skip =
+      self ? m_skip_self[static_cast<std::size_t>(ma)] : nullptr;
+  WorkerPool* pool = split_query(ta, tb, self, m_pool, m_queries, skip);
   const std::size_t pieces = m_queries.size();
   if (m_piece_pairs.size() < pieces) {
     m_piece_pairs.resize(pieces);
@@ -139,7 +161,7 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   }
   for_each_index(pool, pieces, [&](std::size_t k) {
     m_piece_pairs[k].clear();
-    run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k]);
+    run_query(ta, tb, m_queries[k], nullptr, m_piece_pairs[k], skip);
     m_piece_vf[k].clear();
     m_piece_ee[k].clear();
     primitive_pairs(meshes, ma, mb, m_piece_pairs[k], m_piece_vf[k], m_piece_ee[k]);

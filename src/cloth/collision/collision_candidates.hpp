@@ -7,6 +7,7 @@
 #include "cloth/collision/collision_mesh.hpp"
 #include "cloth/collision/mesh_topology.hpp"
 #include "cloth/collision/rest_neighbours.hpp"
+#include "cloth/collision/unfolded_subtrees.hpp"
 #include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
@@ -43,7 +44,11 @@ class CollisionCandidates {
   /// edge–edge pair whose faces' boxes overlap and whose own boxes overlap: within each cloth
   /// mesh (unless its `self_collision` is off), between cloth meshes, between cloth and
   /// obstacles (never obstacle–obstacle). Pairs sharing a vertex are left out. Each pair
-  /// appears once.
+  /// appears once. Within a cloth with a planar rest shape, the pairs of whole subtrees of its
+  /// tree that are shown to hold none within 2·margin are left out too (UnfoldedSubtrees): swept,
+  /// none within 2·margin at any time of the linear motion x0 → x1; otherwise, none but rest
+  /// neighbours (set_rest_neighbour_distance; no subtree is left out while that is 0). So every
+  /// pair within 2·margin is found, but not every pair whose boxes overlap.
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
   void reset() { m_topology.clear(); }
@@ -76,8 +81,10 @@ class CollisionCandidates {
 
   WorkerPool* m_pool{};
   double m_rest_distance{};
-  std::vector<RestNeighbours> m_rest;  // per mesh
-  std::vector<BvhQuery> m_queries;                          // pieces of a face-pair query
+  std::vector<RestNeighbours> m_rest;                         // per mesh
+  std::vector<UnfoldedSubtrees> m_unfolded;                   // per mesh
+  std::vector<const std::vector<std::uint8_t>*> m_skip_self;  // per mesh: its flags, or null
+  std::vector<BvhQuery> m_queries;                            // pieces of a face-pair query
   // Each piece's face pairs and their primitive pairs.
   std::vector<std::vector<FacePair>> m_piece_pairs;
   std::vector<std::vector<VertexFacePair>> m_piece_vf;

@@ -1,0 +1,343 @@
+#include "cloth/collision/unfolded_subtrees.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cloth/collision/rest_neighbours.hpp"
+#include "core/assert.hpp"
+
+namespace dexcloth::collision {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// Smallest singular value of the 3×2 matrix f.
+double sigma_min(const double (&f)[3][2]) {
+  double p = 0.0, q = 0.0, s = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    p += f[j][0] * f[j][0];
+    q += f[j][0] * f[j][1];
+    s += f[j][1] * f[j][1];
+  }
+  const double lambda = 0.5 * (p + s) - std::hypot(0.5 * (p - s), q);
+  return std::sqrt(std::max(0.0, lambda));
+}
+
+// Frobenius norm of f − g (at least its spectral norm).
+double difference_norm(const double (&f)[3][2], const double (&g)[3][2]) {
+  double sq = 0.0;
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 2; ++k) sq += (f[j][k] - g[j][k]) * (f[j][k] - g[j][k]);
+  return std::sqrt(sq);
+}
+
+}  // namespace
+
+void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const Bvh& bvh) {
+  DEXCLOTH_DEMAND(rest.rows() > 0 && faces.rows() == bvh.num_faces());
+  // The rest plane: through the centroid, normal to the rest vertices' least spread.
+  const Vec3 centre = rest.colwise().mean().transpose();
+  Mat3 spread = Mat3::Zero();
+  for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+    const Vec3 d = rest.row(v).transpose() - centre;
+    spread += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(spread);
+  const Vec3 normal = eigen.eigenvectors().col(0);
+  const Vec3 e0 = eigen.eigenvectors().col(2), e1 = eigen.eigenvectors().col(1);
+  m_uv.resize(static_cast<std::size_t>(2 * rest.rows()));
+  m_flatness = 0.0;
+  for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+    const Vec3 d = rest.row(v).transpose() - centre;
+    m_uv[static_cast<std::size_t>(2 * v)] = d.dot(e0);
+    m_uv[static_cast<std::size_t>(2 * v + 1)] = d.dot(e1);
+    m_flatness = std::max(m_flatness, std::abs(d.dot(normal)));
+  }
+  m_separation = -1.0;
+  // Rest boxes, children before parents.
+  m_nodes = bvh.num_nodes();
+  m_box.assign(static_cast<std::size_t>(4 * m_nodes), 0.0);
+  for (int i = m_nodes - 1; i >= 0; --i) {
+    double* box = &m_box[static_cast<std::size_t>(4 * i)];
+    const int face = bvh.leaf_face(i);
+    if (face >= 0) {
+      box[0] = box[1] = kInfinity;
+      box[2] = box[3] = -kInfinity;
+      for (int k = 0; k < 3; ++k) {
+        const auto v = static_cast<std::size_t>(faces(face, k));
+        for (int a = 0; a < 2; ++a) {
+          box[a] = std::min(box[a], m_uv[2 * v + static_cast<std::size_t>(a)]);
+          box[2 + a] = std::max(box[2 + a], m_uv[2 * v + static_cast<std::size_t>(a)]);
+        }
+      }
+      continue;
+    }
+    const double* l = &m_box[static_cast<std::size_t>(4 * (i + 1))];
+    const double* r = &m_box[static_cast<std::size_t>(4 * bvh.right_child(i))];
+    for (int a = 0; a < 2; ++a) {
+      box[a] = std::min(l[a], r[a]);
+      box[2 + a] = std::max(l[2 + a], r[2 + a]);
+    }
+  }
+  // Each base subtree's vertices, once, and the rest moments of every node over them.
+  m_base_start.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_base_count.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_base_vertices.clear();
+  m_rest.assign(static_cast<std::size_t>(m_nodes), RestMoments());
+  for (int i = m_nodes - 1; i >= 0; --i) {
+    RestMoments& rm = m_rest[static_cast<std::size_t>(i)];
+    const int n = bvh.subtree_faces(i);
+    if (n <= kBaseFaces) {
+      const auto start = m_base_vertices.size();
+      for (int j = i; j < i + 2 * n - 1; ++j) {
+        const int face = bvh.leaf_face(j);
+        if (face < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+          const int v = faces(face, k);
+          if (std::find(m_base_vertices.begin() + static_cast<std::ptrdiff_t>(start),
+                        m_base_vertices.end(), v) == m_base_vertices.end())
+            m_base_vertices.push_back(v);
+        }
+      }
+      m_base_start[static_cast<std::size_t>(i)] = static_cast<int>(start);
+      m_base_count[static_cast<std::size_t>(i)] = static_cast<int>(m_base_vertices.size() - start);
+      for (auto k = start; k < m_base_vertices.size(); ++k) {
+        const auto v = static_cast<std::size_t>(m_base_vertices[k]);
+        const double u0 = m_uv[2 * v], u1 = m_uv[2 * v + 1];
+        rm.w += 1.0;
+        rm.su[0] += u0;
+        rm.su[1] += u1;
+        rm.suu[0] += u0 * u0;
+        rm.suu[1] += u0 * u1;
+        rm.suu[2] += u1 * u1;
+      }
+    } else {
+      const RestMoments& l = m_rest[static_cast<std::size_t>(i + 1)];
+      const RestMoments& r = m_rest[static_cast<std::size_t>(bvh.right_child(i))];
+      rm.w = l.w + r.w;
+      for (int a = 0; a < 2; ++a) rm.su[a] = l.su[a] + r.su[a];
+      for (int a = 0; a < 3; ++a) rm.suu[a] = l.suu[a] + r.suu[a];
+    }
+    finish(rm);
+  }
+  m_flags.assign(static_cast<std::size_t>(m_nodes), 0);
+}
+
+double UnfoldedSubtrees::least_separation(const Triangles& faces,
+                                          const MeshTopology& topology) const {
+  // Every face pair whose rest boxes, inflated by half the longest edge h, overlap; faces
+  // farther apart are more than h apart.
+  Points plane = Points::Zero(static_cast<Eigen::Index>(m_uv.size() / 2), 3);
+  for (Eigen::Index v = 0; v < plane.rows(); ++v) {
+    plane(v, 0) = m_uv[static_cast<std::size_t>(2 * v)];
+    plane(v, 1) = m_uv[static_cast<std::size_t>(2 * v + 1)];
+  }
+  double longest = 0.0;
+  for (const std::array<int, 2>& e : topology.edges)
+    longest = std::max(longest, (plane.row(e[0]) - plane.row(e[1])).norm());
+  Bvh tree;
+  tree.build(faces, plane, plane, 0.5 * longest);
+  std::vector<FacePair> pairs;
+  self_overlapping_faces(tree, faces, false, pairs);
+  double least = longest;
+  const auto corners = [&](int f) {
+    return std::array<int, 3>{faces(f, 0), faces(f, 1), faces(f, 2)};
+  };
+  for (const FacePair& p : pairs) {
+    for (const auto& [f, g] : {std::pair{p.a, p.b}, std::pair{p.b, p.a}}) {
+      const std::array<int, 3> face = corners(g);
+      for (int k = 0; k < 3; ++k) {
+        const int v = faces(f, k);
+        if (v == face[0] || v == face[1] || v == face[2]) continue;
+        least = std::min(least, rest_vertex_face_distance(plane, v, face));
+      }
+    }
+    for (const int ea : topology.face_edges[static_cast<std::size_t>(p.a)])
+      for (const int eb : topology.face_edges[static_cast<std::size_t>(p.b)]) {
+        const std::array<int, 2>& a = topology.edges[static_cast<std::size_t>(ea)];
+        const std::array<int, 2>& b = topology.edges[static_cast<std::size_t>(eb)];
+        if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+        least = std::min(least, rest_edge_edge_distance(plane, a, b));
+      }
+  }
+  return least;
+}
+
+void UnfoldedSubtrees::finish(RestMoments& rest) {
+  rest.u[0] = rest.su[0] / rest.w;
+  rest.u[1] = rest.su[1] / rest.w;
+  const double a = rest.suu[0] / rest.w - rest.u[0] * rest.u[0];
+  const double b = rest.suu[1] / rest.w - rest.u[0] * rest.u[1];
+  const double c = rest.suu[2] / rest.w - rest.u[1] * rest.u[1];
+  const double det = a * c - b * b;
+  if (!(det > 1e-12 * (a + c) * (a + c))) return;  // degenerate (collinear): no fit
+  rest.inverse[0] = c / det;
+  rest.inverse[1] = -b / det;
+  rest.inverse[2] = a / det;
+}
+
+UnfoldedSubtrees::Fit UnfoldedSubtrees::fit(const Moments& mo, const RestMoments& rest) {
+  Fit ft;
+  if (rest.inverse[0] == 0.0 && rest.inverse[2] == 0.0) {
+    ft.rho = kInfinity;
+    return ft;
+  }
+  for (int j = 0; j < 3; ++j) {
+    ft.x[j] = mo.sx[j] / rest.w;
+    // Covariance of x with u, times the inverse of u's.
+    const double c0 = mo.sxu[j][0] / rest.w - ft.x[j] * rest.u[0];
+    const double c1 = mo.sxu[j][1] / rest.w - ft.x[j] * rest.u[1];
+    ft.f[j][0] = c0 * rest.inverse[0] + c1 * rest.inverse[1];
+    ft.f[j][1] = c0 * rest.inverse[1] + c1 * rest.inverse[2];
+  }
+  return ft;
+}
+
+double UnfoldedSubtrees::deviation(const Fit& c, const double* uc, const Fit& n, const double* un,
+                                   const double* box) {
+  // G_c(u) − G_n(u) = d0 + D u with D = F_c − F_n.
+  double d0[3], d[3][2];
+  for (int j = 0; j < 3; ++j) {
+    d[j][0] = c.f[j][0] - n.f[j][0];
+    d[j][1] = c.f[j][1] - n.f[j][1];
+    d0[j] = c.x[j] - n.x[j] - c.f[j][0] * uc[0] - c.f[j][1] * uc[1] + n.f[j][0] * un[0] +
+            n.f[j][1] * un[1];
+  }
+  double worst = 0.0;
+  for (int corner = 0; corner < 4; ++corner) {
+    const double u0 = box[(corner & 1) ? 2 : 0], u1 = box[(corner & 2) ? 3 : 1];
+    double sq = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      const double e = d0[j] + d[j][0] * u0 + d[j][1] * u1;
+      sq += e * e;
+    }
+    worst = std::max(worst, sq);
+  }
+  return std::sqrt(worst);
+}
+
+UnfoldedSubtrees::Node UnfoldedSubtrees::visit_base(int i) const {
+  Node n;
+  const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
+  const int* begin = m_base_vertices.data() + m_base_start[static_cast<std::size_t>(i)];
+  const int* end = begin + m_base_count[static_cast<std::size_t>(i)];
+  for (int s = 0; s < 2 && m_x[s] != nullptr; ++s) {
+    const Points& x = *m_x[s];
+    Moments& mo = n.moments[s];
+    for (const int* v = begin; v != end; ++v) {
+      const double u0 = m_uv[static_cast<std::size_t>(2 * *v)];
+      const double u1 = m_uv[static_cast<std::size_t>(2 * *v + 1)];
+      for (int d = 0; d < 3; ++d) {
+        const double xd = x(*v, d);
+        mo.sx[d] += xd;
+        mo.sxu[d][0] += xd * u0;
+        mo.sxu[d][1] += xd * u1;
+      }
+    }
+    Fit& ft = n.fit[s];
+    ft = fit(mo, rest);
+    if (ft.rho == kInfinity) continue;
+    double worst = 0.0;
+    for (const int* v = begin; v != end; ++v) {
+      const double du0 = m_uv[static_cast<std::size_t>(2 * *v)] - rest.u[0];
+      const double du1 = m_uv[static_cast<std::size_t>(2 * *v + 1)] - rest.u[1];
+      double sq = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        const double e = x(*v, d) - ft.x[d] - ft.f[d][0] * du0 - ft.f[d][1] * du1;
+        sq += e * e;
+      }
+      worst = std::max(worst, sq);
+    }
+    ft.rho = std::sqrt(worst);
+  }
+  return n;
+}
+
+UnfoldedSubtrees::Node UnfoldedSubtrees::combine(int i, int l, int r, const Node& left,
+                                                 const Node& right) const {
+  Node n;
+  const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
+  const RestMoments& rest_l = m_rest[static_cast<std::size_t>(l)];
+  const RestMoments& rest_r = m_rest[static_cast<std::size_t>(r)];
+  for (int s = 0; s < 2 && m_x[s] != nullptr; ++s) {
+    Moments& mo = n.moments[s];
+    const Moments& ml = left.moments[s];
+    const Moments& mr = right.moments[s];
+    for (int d = 0; d < 3; ++d) {
+      mo.sx[d] = ml.sx[d] + mr.sx[d];
+      mo.sxu[d][0] = ml.sxu[d][0] + mr.sxu[d][0];
+      mo.sxu[d][1] = ml.sxu[d][1] + mr.sxu[d][1];
+    }
+    Fit& ft = n.fit[s];
+    ft = fit(mo, rest);
+    if (ft.rho == kInfinity) continue;
+    ft.rho = std::max(left.fit[s].rho + deviation(left.fit[s], rest_l.u, ft, rest.u,
+                                                  &m_box[static_cast<std::size_t>(4 * l)]),
+                      right.fit[s].rho + deviation(right.fit[s], rest_r.u, ft, rest.u,
+                                                   &m_box[static_cast<std::size_t>(4 * r)]));
+  }
+  return n;
+}
+
+UnfoldedSubtrees::Node UnfoldedSubtrees::visit(const Bvh& bvh, int i) {
+  if (bvh.subtree_faces(i) <= kBaseFaces) {
+    Node n = visit_base(i);
+    flag(i, n);
+    return n;
+  }
+  const int l = i + 1, r = bvh.right_child(i);
+  const Node n = combine(i, l, r, visit(bvh, l), visit(bvh, r));
+  flag(i, n);
+  return n;
+}
+
+void UnfoldedSubtrees::flag(int i, const Node& n) {
+  double sigma = sigma_min(n.fit[0].f), rho = n.fit[0].rho;
+  if (m_x[1] != nullptr) {
+    sigma = std::min(sigma, sigma_min(n.fit[1].f)) - 0.5 * difference_norm(n.fit[0].f, n.fit[1].f);
+    rho = std::max(rho, n.fit[1].rho);
+  }
+  m_flags[static_cast<std::size_t>(i)] = sigma * m_distance - 2.0 * rho >= m_needed;
+}
+
+void UnfoldedSubtrees::run(const Bvh& bvh, WorkerPool* pool) {
+  std::fill(m_flags.begin(), m_flags.end(), 0);
+  if (!(m_distance > m_needed) || bvh.subtree_faces(0) <= kBaseFaces) return;
+  // The root's two subtrees each on a thread of its own where the tree is worth it.
+  const int l = 1, r = bvh.right_child(0);
+  const bool threaded =
+      pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces;
+  Node children[2];
+  for_each_index(threaded ? pool : nullptr, 2,
+                 [&](std::size_t k) { children[k] = visit(bvh, k == 0 ? l : r); });
+  flag(0, combine(0, l, r, children[0], children[1]));
+}
+
+void UnfoldedSubtrees::update(const Bvh& bvh, const Triangles& faces, const Points& x,
+                              double rest_distance, double reach, WorkerPool* pool) {
+  DEXCLOTH_DEMAND(built_for(bvh) && faces.rows() == bvh.num_faces());
+  m_x[0] = &x;
+  m_x[1] = nullptr;
+  // Rest distances measured in the rest plane are short of the true ones by the flatness at
+  // most at each end.
+  m_distance = rest_distance - 2.0 * m_flatness;
+  m_needed = reach * (1.0 + 1e-9) + 1e-12;  // a margin for rounding
+  run(bvh, pool);
+}
+
+void UnfoldedSubtrees::update_swept(const Bvh& bvh, const Triangles& faces,
+                                    const MeshTopology& topology, const Points& x0,
+                                    const Points& x1, double reach, WorkerPool* pool) {
+  DEXCLOTH_DEMAND(built_for(bvh) && faces.rows() == bvh.num_faces());
+  if (m_separation < 0.0) m_separation = least_separation(faces, topology);
+  m_x[0] = &x0;
+  m_x[1] = &x1;
+  m_distance = m_separation;  // measured in the rest plane
+  m_needed = reach * (1.0 + 1e-9) + 1e-12;
+  run(bvh, pool);
+}
+
+}  // namespace dexcloth::collision

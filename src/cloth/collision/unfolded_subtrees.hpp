@@ -1,0 +1,100 @@
+#pragma once
+/// Subtrees of a cloth's BVH that are provably free of self-contact at a reach: their cloth is
+/// close to an affine image of its (planar) rest shape, so two of their primitives far enough
+/// apart at rest are farther apart than the reach, and the broad phase can leave out the pairs
+/// within them without testing any.
+#include <cstdint>
+#include <vector>
+
+#include "cloth/collision/bvh.hpp"
+#include "cloth/collision/mesh_topology.hpp"
+#include "core/types.hpp"
+
+namespace dexcloth::collision {
+
+/// For every node N of a cloth's BVH: the least-squares affine map G_N(u) = m + F (u − ū) of its
+/// faces' corners from rest-plane coordinates u to positions x, and a bound ρ_N on how far any
+/// of its vertices lies from G_N. For points p, q of N's faces, |x_p − x_q| ≥ σ_min(F)·|u_p −
+/// u_q| − 2ρ_N, so when σ_min(F)·d − 2ρ_N ≥ reach, no two primitives of N whose rest distance
+/// is d or more come within the reach. ρ_N is exact for subtrees of up to kBaseFaces faces
+/// (measured at their corners) and bounded above them: max over the children c of ρ_c +
+/// max |G_c − G_N| over c's rest box (an affine difference, largest at a corner of the box).
+///
+/// Over a step's linear motion x0 → x1 the maps interpolate too: at time t every vertex is within
+/// (1 − t)·ρ0 + t·ρ1 of (1 − t)·G0 + t·G1, whose σ_min is at least min(σ0, σ1) − ‖F1 − F0‖/2.
+class UnfoldedSubtrees {
+ public:
+  /// Rest-plane coordinates of `rest` (|V|×3) and the rest boxes of `bvh`'s nodes over `faces`.
+  /// A rest shape that is not planar gets a flatness allowance as large as its curvature, which
+  /// leaves no subtree flagged.
+  void build(const Points& rest, const Triangles& faces, const Bvh& bvh);
+  /// True when built for a tree of `bvh`'s node count.
+  bool built_for(const Bvh& bvh) const { return m_nodes == bvh.num_nodes() && m_nodes > 0; }
+  /// Flags the inner nodes of `bvh` with more than kBaseFaces faces or exactly that many whose
+  /// subtree holds no two primitives within `reach` [m] of each other at positions `x` unless
+  /// their rest distance is below `rest_distance` [m] (rest neighbours). Runs on `pool`'s threads
+  /// where the tree is big enough (null: the calling thread); the flags do not depend on it.
+  void update(const Bvh& bvh, const Triangles& faces, const Points& x, double rest_distance,
+              double reach, WorkerPool* pool = nullptr);
+  /// The same for the linear motion x0 → x1: flags the subtrees in which no two primitives that
+  /// share no vertex come within `reach` of each other at any time of the motion.
+  void update_swept(const Bvh& bvh, const Triangles& faces, const MeshTopology& topology,
+                    const Points& x0, const Points& x1, double reach, WorkerPool* pool = nullptr);
+  /// One flag per node (nonzero: no contact within its subtree), for run_query's skip_self.
+  const std::vector<std::uint8_t>& flags() const { return m_flags; }
+
+  /// Subtrees of up to this many faces get ρ from their corners directly (exact, and cheaper
+  /// than bounding it through their small nodes); smaller nodes are never flagged.
+  static constexpr int kBaseFaces = 8;
+
+ private:
+  struct Fit {
+    double x[3]{};     // m, mean position of the corners [m]
+    double f[3][2]{};  // F, the map's linear part
+    double rho{};      // bound on any vertex's distance from the map [m] (∞: no fit)
+  };
+  struct Moments {  // of positions x over a node's vertices (each base subtree's once)
+    double sx[3]{}, sxu[3][2]{};
+  };
+  struct RestMoments {  // of the same vertices' rest-plane coordinates u, and what the fit needs
+    double w{}, su[2]{}, suu[3]{};
+    double u[2]{};        // ū
+    double inverse[3]{};  // of their covariance, {00, 01, 11}; all 0: degenerate, no fit
+  };
+  struct Node {  // of x0 and, in a swept update, x1
+    Moments moments[2];
+    Fit fit[2];
+  };
+  static void finish(RestMoments& rest);
+  static Fit fit(const Moments& mo, const RestMoments& rest);
+  // Largest |G_c(u) − G_n(u)| over the corners of rest box `box` {u0 lo, u1 lo, u0 hi, u1 hi}.
+  static double deviation(const Fit& c, const double* uc, const Fit& n, const double* un,
+                          const double* box);
+  // The moments and fits of node i from its children's, with ρ bounded through theirs.
+  Node combine(int i, int l, int r, const Node& left, const Node& right) const;
+  // Node i's moments and fits, its descendants flagged on the way.
+  Node visit(const Bvh& bvh, int i);
+  // The same for a base subtree, from its vertices.
+  Node visit_base(int i) const;
+  void flag(int i, const Node& n);
+  void run(const Bvh& bvh, WorkerPool* pool);
+  // The least distance in the rest plane between two primitives that share no vertex [m].
+  double least_separation(const Triangles& faces, const MeshTopology& topology) const;
+
+  int m_nodes{};
+  double m_flatness{};              // largest distance of a rest vertex from the rest plane [m]
+  double m_separation{-1.0};        // least_separation, once computed (< 0: not yet)
+  std::vector<double> m_uv;         // |V|×2 rest-plane coordinates [m]
+  std::vector<double> m_box;        // per node, rest box {u0 lo, u1 lo, u0 hi, u1 hi} [m]
+  std::vector<RestMoments> m_rest;  // per node
+  // The vertices of base subtree i: m_base_vertices[m_base_start[i] .. m_base_start[i] +
+  // m_base_count[i]), each once.
+  std::vector<int> m_base_start, m_base_count, m_base_vertices;
+  // Of the update running:
+  const Points* m_x[2]{};  // positions (x1 null: not swept)
+  double m_distance{};     // rest distance less the flatness allowance [m]
+  double m_needed{};       // the reach with a margin for rounding [m]
+  std::vector<std::uint8_t> m_flags;
+};
+
+}  // namespace dexcloth::collision

@@ -1,0 +1,370 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <set>
+#include <tuple>
+
+#include "cloth/collision/bvh.hpp"
+#include "cloth/collision/ccd.hpp"
+#include "cloth/collision/closest_points.hpp"
+#include "cloth/collision/collision_candidates.hpp"
+#include "cloth/collision/unfolded_subtrees.hpp"
+#include "mesh_builders.hpp"
+
+using namespace dexcloth;
+using namespace dexcloth::collision;
+using namespace dexcloth::collision::testing;
+
+namespace {
+
+constexpr double kReach = 5e-3;                        // a 5 mm thickness
+constexpr double kRestDistance = 0.5 * M_PI * kReach;  // the proximity search's fold length
+
+/// A sheet of n × n quads with 5 mm edges, centred on the origin, with its flat rest shape.
+CollisionMesh sheet(int n = 20) {
+  const double size = 5e-3 * n;
+  CollisionMesh m = make_sheet(n, n, size, size, Vec3(-0.5 * size, -0.5 * size, 0.0), 1e-4);
+  m.rest = m.x0;
+  return m;
+}
+
+/// The flags of `m`'s tree at its x0.
+std::vector<std::uint8_t> flags(const CollisionMesh& m, double rest_distance = kRestDistance) {
+  Bvh bvh;
+  bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
+  UnfoldedSubtrees unfolded;
+  unfolded.build(m.rest, m.faces, bvh);
+  unfolded.update(bvh, m.faces, m.x0, rest_distance, kReach);
+  return unfolded.flags();
+}
+
+double distance_vertex_face(const Points& x, int v, const CollisionMesh& m, int f) {
+  const Vec3 p = x.row(v).transpose();
+  const Vec3 a = x.row(m.faces(f, 0)).transpose(), b = x.row(m.faces(f, 1)).transpose(),
+             c = x.row(m.faces(f, 2)).transpose();
+  const Vec3 w = closest_point_triangle(p, a, b, c);
+  return (p - (w[0] * a + w[1] * b + w[2] * c)).norm();
+}
+
+double distance_edge_edge(const Points& x, const std::array<int, 2>& e,
+                          const std::array<int, 2>& g) {
+  const Vec3 p0 = x.row(e[0]).transpose(), p1 = x.row(e[1]).transpose(),
+             q0 = x.row(g[0]).transpose(), q1 = x.row(g[1]).transpose();
+  const Vec2 su = closest_points_segments(p0, p1, q0, q1);
+  return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm();
+}
+
+/// Checks, by testing every pair, that the proximity candidates of `m` hold every vertex–face
+/// and edge–edge pair within the reach at x0 that is not a rest neighbour. Returns how many
+/// such pairs there are.
+int expect_every_close_pair_found(const CollisionMesh& m) {
+  CollisionCandidates candidates;
+  candidates.set_rest_neighbour_distance(kRestDistance);
+  candidates.update({&m}, false, 0.5 * kReach);
+  const MeshTopology& topo = candidates.topology(0);
+  std::set<std::pair<int, int>> vf, ee;
+  for (const VertexFacePair& p : candidates.vertex_face()) vf.insert({p.vertex, p.face});
+  for (const EdgeEdgePair& p : candidates.edge_edge())
+    ee.insert({std::min(p.edge_a, p.edge_b), std::max(p.edge_a, p.edge_b)});
+  int close = 0;
+  for (int v = 0; v < m.x0.rows(); ++v) {
+    for (int f = 0; f < m.faces.rows(); ++f) {
+      if (v == m.faces(f, 0) || v == m.faces(f, 1) || v == m.faces(f, 2)) continue;
+      if (distance_vertex_face(m.x0, v, m, f) >= kReach) continue;
+      if (distance_vertex_face(m.rest, v, m, f) < kRestDistance) continue;
+      ++close;
+      EXPECT_TRUE(vf.count({v, f})) << "vertex " << v << " face " << f;
+    }
+  }
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    for (std::size_t g = e + 1; g < topo.edges.size(); ++g) {
+      const std::array<int, 2>& a = topo.edges[e];
+      const std::array<int, 2>& b = topo.edges[g];
+      if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+      if (distance_edge_edge(m.x0, a, b) >= kReach) continue;
+      if (distance_edge_edge(m.rest, a, b) < kRestDistance) continue;
+      ++close;
+      EXPECT_TRUE(ee.count({static_cast<int>(e), static_cast<int>(g)}))
+          << "edges " << e << " " << g;
+    }
+  }
+  return close;
+}
+
+}  // namespace
+
+TEST(UnfoldedSubtrees, AFlatSheetMovedRigidlyAndStretchedIsOneSubtree) {
+  // Turned about a tilted axis, moved and stretched by 5 % in one direction: an affine image
+  // of its rest shape, so the root holds no contact; nor does it at rest.
+  CollisionMesh m = sheet();
+  EXPECT_EQ(flags(m)[0], 1);
+  const Mat3 turn = Eigen::AngleAxisd(0.7, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  for (int v = 0; v < m.x0.rows(); ++v)
+    m.x0.row(v) =
+        (turn * Vec3(1.05 * m.rest(v, 0), m.rest(v, 1), 0.0) + Vec3(0.3, -1.0, 2.0)).transpose();
+  EXPECT_EQ(flags(m)[0], 1);
+  // Not when the rest distance does not exceed the reach: every pair could then be a contact.
+  EXPECT_EQ(flags(m, kReach)[0], 0);
+  // Nor when the sheet is squeezed to 60 % in one direction, where points 7.85 mm apart at rest
+  // come within 4.7 mm of each other.
+  for (int v = 0; v < m.x0.rows(); ++v) m.x0.row(v) << 0.6 * m.rest(v, 0), m.rest(v, 1), 0.0;
+  EXPECT_EQ(flags(m)[0], 0);
+}
+
+TEST(UnfoldedSubtrees, ASheetWithAFoldIsNotOneButItsSingleLayerIs) {
+  // Its right quarter folded back over the next one, 3 mm above it: the root's fit is far from
+  // the layers, while subtrees of the single layer on the left are flat.
+  CollisionMesh m = sheet();
+  for (int v = 0; v < m.x0.rows(); ++v)
+    if (m.x0(v, 0) > 0.025) m.x0.row(v) << 0.05 - m.x0(v, 0), m.x0(v, 1), 3e-3;
+  Bvh bvh;
+  bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
+  const std::vector<std::uint8_t> f = flags(m);
+  EXPECT_EQ(f[0], 0);
+  // Faces under flagged nodes (the topmost ones): at least half the left half's.
+  int covered = 0;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (f[static_cast<std::size_t>(i)] != 0) {
+      covered += bvh.subtree_faces(i);
+    } else if (bvh.leaf_face(i) < 0) {
+      stack.push_back(i + 1);
+      stack.push_back(bvh.right_child(i));
+    }
+  }
+  EXPECT_GT(covered, m.faces.rows() / 4);
+  // And the search still finds every pair across the layers.
+  EXPECT_GT(expect_every_close_pair_found(m), 300);
+}
+
+TEST(UnfoldedSubtrees, ACurvedRestShapeFlagsNothing) {
+  // The sheet's rest shape rolled into a half cylinder of radius 3 cm: no rest plane, so no
+  // distances measured in it can be trusted.
+  CollisionMesh m = sheet();
+  for (int v = 0; v < m.rest.rows(); ++v) {
+    const double a = m.rest(v, 0) / 0.03;
+    m.rest.row(v) << 0.03 * std::sin(a), m.rest(v, 1), 0.03 * (1.0 - std::cos(a));
+  }
+  m.x0 = m.rest;
+  m.x1 = m.x0;
+  for (const std::uint8_t x : flags(m)) EXPECT_EQ(x, 0);
+}
+
+TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
+  // Seeded smooth crumples of growing amplitude (sums of waves 1 to 5 cm long, 0.3 to 2.4 mm
+  // high, with some in-plane shear), every other one with a fold: whatever subtrees are left out,
+  // every pair within the reach that is not a rest neighbour is still a candidate (tested against
+  // every pair of the mesh).
+  std::uint32_t state = 2024u;
+  const auto uniform = [&] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<double>(state >> 8) / 16777216.0;
+  };
+  int flagged_runs = 0, close_pairs = 0;
+  for (int run = 0; run < 8; ++run) {
+    CollisionMesh m = sheet();
+    const double amplitude = 0.3e-3 * (1 + run);
+    std::vector<std::tuple<double, double, double, double>> waves;  // kx, ky, phase, amplitude
+    for (int k = 0; k < 4; ++k) {
+      const double length = 0.01 + 0.04 * uniform(), angle = 2.0 * M_PI * uniform();
+      waves.emplace_back(2.0 * M_PI / length * std::cos(angle),
+                         2.0 * M_PI / length * std::sin(angle), 2.0 * M_PI * uniform(),
+                         amplitude * (0.5 + uniform()));
+    }
+    for (int v = 0; v < m.x0.rows(); ++v) {
+      double z = 0.0, dx = 0.0;
+      for (const auto& [kx, ky, phase, a] : waves) {
+        const double s = kx * m.rest(v, 0) + ky * m.rest(v, 1) + phase;
+        z += a * std::sin(s);
+        dx += 0.5 * a * std::cos(s);  // in-plane shear: squeezes some rows together
+      }
+      m.x0.row(v) << m.rest(v, 0) + dx, m.rest(v, 1), z;
+    }
+    if (run % 2 == 1) {  // fold the right third back over the sheet, 2 mm above it
+      for (int v = 0; v < m.x0.rows(); ++v)
+        if (m.x0(v, 0) > 0.02) m.x0.row(v) << 0.04 - m.x0(v, 0), m.x0(v, 1), 2e-3 - m.x0(v, 2);
+    }
+    m.x1 = m.x0;
+    int flagged = 0;
+    for (const std::uint8_t x : flags(m)) flagged += x;
+    flagged_runs += flagged > 0;
+    close_pairs += expect_every_close_pair_found(m);
+  }
+  // The runs leave out some subtrees and hold pairs to find (else the test shows nothing).
+  EXPECT_GE(flagged_runs, 4);
+  EXPECT_GT(close_pairs, 1000);
+}
+
+TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPlane) {
+  // The flat sheet squeezed and stretched in its plane by a wave along a direction n,
+  // x = u − A·sin(k·(u·n) + φ)·n (1.5 to 2.8 mm, 18 to 24 mm long, never folding over): points
+  // d apart at rest across a squeezed stretch come within d − 2A·sin(kd/2). A subtree over whole
+  // waves keeps F ≈ 1 and misses their ends by about A each way, so the bound must count ρ at
+  // both ends: with ρ counted once, A = 2.5 mm would pass 7.85 − 2.5 ≥ 5 while pairs 8 mm
+  // apart at rest come within 3.3 mm.
+  int close_pairs = 0, flagged_runs = 0;
+  for (int run = 0; run < 8; ++run) {
+    CollisionMesh m = sheet();
+    const double amplitude = 1.5e-3 + 0.18e-3 * run, length = 18e-3 + 3e-3 * (run % 3);
+    const double k = 2.0 * M_PI / length, angle = 0.4 * run, phase = 0.7 * run;
+    const Vec3 n(std::cos(angle), std::sin(angle), 0.0);
+    ASSERT_LT(amplitude * k, 1.0);  // no fold-over
+    for (int v = 0; v < m.x0.rows(); ++v) {
+      const Vec3 u = m.rest.row(v).transpose();
+      m.x0.row(v) = (u - amplitude * std::sin(k * u.dot(n) + phase) * n).transpose();
+    }
+    m.x1 = m.x0;
+    int flagged = 0;
+    for (const std::uint8_t x : flags(m)) flagged += x;
+    flagged_runs += flagged > 0;
+    close_pairs += expect_every_close_pair_found(m);
+  }
+  EXPECT_GE(flagged_runs, 4);
+  EXPECT_GT(close_pairs, 100);
+}
+
+namespace {
+
+/// Checks that every pair that continuous detection hits among all the swept candidates of `m`
+/// (the same sheet without a rest shape: nothing left out) is among those that leave out
+/// unfolded subtrees. Returns {hits, whether any subtree was left out}.
+std::pair<int, bool> expect_every_collision_found(const CollisionMesh& m) {
+  constexpr double kTolerance = 1e-6;
+  CollisionCandidates culled, all;
+  culled.update({&m}, true, kTolerance);
+  CollisionMesh no_rest = m;
+  no_rest.rest.resize(0, 3);
+  all.update({&no_rest}, true, kTolerance);
+  std::set<std::tuple<int, int>> vf, ee;
+  for (const VertexFacePair& p : culled.vertex_face()) vf.insert({p.vertex, p.face});
+  for (const EdgeEdgePair& p : culled.edge_edge()) ee.insert({p.edge_a, p.edge_b});
+  const bool left_out = vf.size() + ee.size() < all.vertex_face().size() + all.edge_edge().size();
+  const auto corners = [&](const std::array<int, 4>& v) {
+    std::pair<Corners, Corners> c;
+    for (std::size_t k = 0; k < 4; ++k) {
+      c.first[k] = m.x0.row(v[k]).transpose();
+      c.second[k] = m.x1.row(v[k]).transpose();
+    }
+    return c;
+  };
+  int hits = 0;
+  for (const VertexFacePair& p : all.vertex_face()) {
+    const auto [c0, c1] =
+        corners({p.vertex, m.faces(p.face, 0), m.faces(p.face, 1), m.faces(p.face, 2)});
+    if (!vertex_face_ccd(c0, c1, kTolerance)) continue;
+    ++hits;
+    EXPECT_TRUE(vf.count({p.vertex, p.face})) << "vertex " << p.vertex << " face " << p.face;
+  }
+  const auto& edges = all.topology(0).edges;
+  for (const EdgeEdgePair& p : all.edge_edge()) {
+    const auto& a = edges[static_cast<std::size_t>(p.edge_a)];
+    const auto& b = edges[static_cast<std::size_t>(p.edge_b)];
+    const auto [c0, c1] = corners({a[0], a[1], b[0], b[1]});
+    if (!edge_edge_ccd(c0, c1, kTolerance)) continue;
+    ++hits;
+    EXPECT_TRUE(ee.count({p.edge_a, p.edge_b})) << "edges " << p.edge_a << " " << p.edge_b;
+  }
+  return {hits, left_out};
+}
+
+}  // namespace
+
+TEST(UnfoldedSubtrees, TheSweptSearchKeepsEveryPairThatCollidesOverTheStep) {
+  // Crumpled sheets with a fold, moving over a step: a flat region moved rigidly, the folded
+  // layer driven down 5 mm through the layer under it, and seeded jitter of growing size.
+  std::uint32_t state = 77u;
+  const auto uniform = [&] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<double>(state >> 8) / 16777216.0;
+  };
+  int hits = 0, left_out = 0;
+  for (int run = 0; run < 6; ++run) {
+    CollisionMesh m = sheet();
+    const double jitter = 0.2e-3 * run;
+    for (int v = 0; v < m.x0.rows(); ++v) {
+      const double u = m.rest(v, 0), w = m.rest(v, 1);
+      m.x0.row(v) << u, w, 1e-3 * std::sin(90.0 * u + run) * std::cos(70.0 * w);
+      if (u > 0.025) m.x0.row(v) << 0.05 - u, w, 3e-3;  // the folded layer over the next
+      m.x1.row(v) = m.x0.row(v) + Vec3(2e-3, -1e-3, 0.5e-3).transpose();
+      if (u > 0.025) m.x1(v, 2) -= 5e-3;
+      for (int k = 0; k < 3; ++k) m.x1(v, k) += jitter * (uniform() - 0.5);
+    }
+    const auto [h, out] = expect_every_collision_found(m);
+    hits += h;
+    left_out += out;
+  }
+  EXPECT_EQ(left_out, 6);
+  EXPECT_GT(hits, 1000);
+}
+
+TEST(UnfoldedSubtrees, TheSweptSearchKeepsAVertexPokedThroughTheNextTriangle) {
+  // The flat sheet, each of nine vertices v10 of a quad (diagonal v00–v11) pushed 4 mm toward
+  // v01 while dropping from 0.5 mm above the sheet to 0.02 mm below it: it meets the triangle
+  // across the diagonal, 3.54 mm away at rest (the sheet's least separation), 0.96 of the way
+  // through the step. Only its own residual (about 4 mm at the end) keeps its subtree in:
+  // the bound must use the least separation and the end state's ρ.
+  CollisionMesh m = sheet();
+  for (const int i : {3, 9, 15})
+    for (const int j : {3, 9, 15}) {
+      const int v10 = j * 21 + i + 1;
+      m.x0(v10, 2) = 0.5e-3;
+      m.x1.row(v10) << m.rest(v10, 0) - 4e-3 / std::sqrt(2.0),
+          m.rest(v10, 1) + 4e-3 / std::sqrt(2.0), -0.02e-3;
+    }
+  const auto [hits, left_out] = expect_every_collision_found(m);
+  EXPECT_TRUE(left_out);
+  EXPECT_GE(hits, 9);
+  // Turned half a turn about a tilted axis within the step, the sheet passes through that
+  // axis at mid-step (the linear motion's map shrinks to rank one there): σ at the ends is 1,
+  // and only the change of F between them keeps the subtrees in.
+  CollisionMesh flip = sheet(8);
+  const Mat3 half_turn =
+      Eigen::AngleAxisd(M_PI, Vec3(0.0, 0.2, 1.0).normalized()).toRotationMatrix();
+  for (int v = 0; v < flip.x1.rows(); ++v)
+    flip.x1.row(v) = (half_turn * flip.x0.row(v).transpose()).transpose();
+  EXPECT_GT(expect_every_collision_found(flip).first, 100);
+}
+
+TEST(Bvh, ASkippedNodeLeavesOutThePairsWithinItsSubtreeOnly) {
+  // A flat sheet's self query with one flagged node: exactly the pairs whose faces both lie
+  // under it go, split into pieces or not.
+  const CollisionMesh m = sheet();
+  Bvh bvh;
+  bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
+  std::vector<FacePair> all;
+  run_query(bvh, bvh, {0, 0, true}, nullptr, all);
+  // Node 1 is the root's left subtree: its faces.
+  std::vector<int> under(static_cast<std::size_t>(m.faces.rows()), 0);
+  std::vector<int> stack{1};
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (bvh.leaf_face(i) >= 0) {
+      under[static_cast<std::size_t>(bvh.leaf_face(i))] = 1;
+    } else {
+      stack.push_back(i + 1);
+      stack.push_back(bvh.right_child(i));
+    }
+  }
+  std::vector<std::uint8_t> skip(static_cast<std::size_t>(bvh.num_nodes()), 0);
+  skip[1] = 1;
+  std::vector<FacePair> expected;
+  for (const FacePair& p : all)
+    if (!(under[static_cast<std::size_t>(p.a)] && under[static_cast<std::size_t>(p.b)]))
+      expected.push_back(p);
+  ASSERT_LT(expected.size(), all.size());
+  for (const int pieces : {1, 7, 64}) {
+    std::vector<BvhQuery> queries;
+    split_query(bvh, bvh, true, pieces, queries, &skip);
+    std::vector<FacePair> found;
+    for (const BvhQuery& q : queries) run_query(bvh, bvh, q, nullptr, found, &skip);
+    ASSERT_EQ(found.size(), expected.size()) << pieces << " pieces";
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      EXPECT_EQ(found[k].a, expected[k].a);
+      EXPECT_EQ(found[k].b, expected[k].b);
+    }
+  }
+}
