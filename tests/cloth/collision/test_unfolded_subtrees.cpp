@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -29,6 +30,15 @@ CollisionMesh sheet(int n = 20) {
   return m;
 }
 
+/// Seeded uniform numbers in [0, 1).
+struct Uniform {
+  std::uint32_t state;
+  double operator()() {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<double>(state >> 8) / 16777216.0;
+  }
+};
+
 /// The flags of `m`'s tree at its x0.
 std::vector<std::uint8_t> flags(const CollisionMesh& m, double rest_distance = kRestDistance) {
   Bvh bvh;
@@ -37,6 +47,12 @@ std::vector<std::uint8_t> flags(const CollisionMesh& m, double rest_distance = k
   unfolded.build(m.rest, m.faces, bvh);
   unfolded.update(bvh, m.faces, m.x0, rest_distance, kReach);
   return unfolded.flags();
+}
+
+/// Whether any subtree of `m`'s tree is flagged at its x0.
+bool any_flagged(const CollisionMesh& m) {
+  const std::vector<std::uint8_t> f = flags(m);
+  return std::any_of(f.begin(), f.end(), [](std::uint8_t x) { return x != 0; });
 }
 
 double distance_vertex_face(const Points& x, int v, const CollisionMesh& m, int f) {
@@ -158,11 +174,7 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
   // high, with some in-plane shear), every other one with a fold: whatever subtrees are left out,
   // every pair within the reach that is not a rest neighbour is still a candidate (tested against
   // every pair of the mesh).
-  std::uint32_t state = 2024u;
-  const auto uniform = [&] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<double>(state >> 8) / 16777216.0;
-  };
+  Uniform uniform{2024u};
   int flagged_runs = 0, close_pairs = 0;
   for (int run = 0; run < 8; ++run) {
     CollisionMesh m = sheet();
@@ -188,9 +200,7 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
         if (m.x0(v, 0) > 0.02) m.x0.row(v) << 0.04 - m.x0(v, 0), m.x0(v, 1), 2e-3 - m.x0(v, 2);
     }
     m.x1 = m.x0;
-    int flagged = 0;
-    for (const std::uint8_t x : flags(m)) flagged += x;
-    flagged_runs += flagged > 0;
+    flagged_runs += any_flagged(m);
     close_pairs += expect_every_close_pair_found(m);
   }
   // The runs leave out some subtrees and hold pairs to find (else the test shows nothing).
@@ -201,10 +211,9 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
 TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPlane) {
   // The flat sheet squeezed and stretched in its plane by a wave along a direction n,
   // x = u − A·sin(k·(u·n) + φ)·n (1.5 to 2.8 mm, 18 to 24 mm long, never folding over): points
-  // d apart at rest across a squeezed stretch come within d − 2A·sin(kd/2). A subtree over whole
-  // waves keeps F ≈ 1 and misses their ends by about A each way, so the bound must count ρ at
-  // both ends: with ρ counted once, A = 2.5 mm would pass 7.85 − 2.5 ≥ 5 while pairs 8 mm
-  // apart at rest come within 3.3 mm.
+  // d apart at rest across a squeezed stretch come within d − 2A·sin(kd/2), 3.3 mm for 8 mm at
+  // A = 2.5 mm. A subtree over whole waves keeps F ≈ 1 and misses their ends by about A either
+  // way; subtrees within half a wave fit closely.
   int close_pairs = 0, flagged_runs = 0;
   for (int run = 0; run < 8; ++run) {
     CollisionMesh m = sheet();
@@ -217,9 +226,7 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPla
       m.x0.row(v) = (u - amplitude * std::sin(k * u.dot(n) + phase) * n).transpose();
     }
     m.x1 = m.x0;
-    int flagged = 0;
-    for (const std::uint8_t x : flags(m)) flagged += x;
-    flagged_runs += flagged > 0;
+    flagged_runs += any_flagged(m);
     close_pairs += expect_every_close_pair_found(m);
   }
   EXPECT_GE(flagged_runs, 4);
@@ -275,11 +282,7 @@ std::pair<int, bool> expect_every_collision_found(const CollisionMesh& m) {
 TEST(UnfoldedSubtrees, TheSweptSearchKeepsEveryPairThatCollidesOverTheStep) {
   // Crumpled sheets with a fold, moving over a step: a flat region moved rigidly, the folded
   // layer driven down 5 mm through the layer under it, and seeded jitter of growing size.
-  std::uint32_t state = 77u;
-  const auto uniform = [&] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<double>(state >> 8) / 16777216.0;
-  };
+  Uniform uniform{77u};
   int hits = 0, left_out = 0;
   for (int run = 0; run < 6; ++run) {
     CollisionMesh m = sheet();
