@@ -182,32 +182,17 @@ TEST(Proximity, RestNeighboursAreLeftOutOfTheCandidatesBeforeAnyPairTest) {
   fewer.set_rest_neighbour_distance(d);
   fewer.update(meshes, false, 2.5e-3);
   const auto& ea = all.topology(0).edges;
-  const auto vf_rest = [&](const VertexFacePair& p) {
-    const Vec3 b = closest_point_triangle(strip.rest.row(p.vertex).transpose(),
-                                          strip.rest.row(strip.faces(p.face, 0)).transpose(),
-                                          strip.rest.row(strip.faces(p.face, 1)).transpose(),
-                                          strip.rest.row(strip.faces(p.face, 2)).transpose());
-    Vec3 q = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) q += b[k] * strip.rest.row(strip.faces(p.face, k)).transpose();
-    return (strip.rest.row(p.vertex).transpose() - q).norm();
-  };
-  const auto vf_now = [&](const VertexFacePair& p) {
-    const Vec3 b = closest_point_triangle(strip.x0.row(p.vertex).transpose(),
-                                          strip.x0.row(strip.faces(p.face, 0)).transpose(),
-                                          strip.x0.row(strip.faces(p.face, 1)).transpose(),
-                                          strip.x0.row(strip.faces(p.face, 2)).transpose());
-    Vec3 q = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) q += b[k] * strip.x0.row(strip.faces(p.face, k)).transpose();
-    return (strip.x0.row(p.vertex).transpose() - q).norm();
+  // Distances between a pair's primitives at positions x (at rest, or now).
+  const auto vf_at = [&](const Points& x, const VertexFacePair& p) {
+    return rest_vertex_face_distance(
+        x, p.vertex, {strip.faces(p.face, 0), strip.faces(p.face, 1), strip.faces(p.face, 2)});
   };
   const auto ee_at = [&](const Points& x, const EdgeEdgePair& p) {
-    const auto& a = ea[static_cast<std::size_t>(p.edge_a)];
-    const auto& b = ea[static_cast<std::size_t>(p.edge_b)];
-    const Vec3 p0 = x.row(a[0]).transpose(), p1 = x.row(a[1]).transpose(),
-               q0 = x.row(b[0]).transpose(), q1 = x.row(b[1]).transpose();
-    const Vec2 su = closest_points_segments(p0, p1, q0, q1);
-    return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm();
+    return rest_edge_edge_distance(x, ea[static_cast<std::size_t>(p.edge_a)],
+                                   ea[static_cast<std::size_t>(p.edge_b)]);
   };
+  const auto vf_rest = [&](const VertexFacePair& p) { return vf_at(strip.rest, p); };
+  const auto vf_now = [&](const VertexFacePair& p) { return vf_at(strip.x0, p); };
   const auto ee_rest = [&](const EdgeEdgePair& p) { return ee_at(strip.rest, p); };
   const auto ee_now = [&](const EdgeEdgePair& p) { return ee_at(strip.x0, p); };
   const auto same = [](const auto& x, const auto& y) { return std::memcmp(&x, &y, sizeof x) == 0; };

@@ -8,8 +8,8 @@
 
 #include "cloth/collision/bvh.hpp"
 #include "cloth/collision/ccd.hpp"
-#include "cloth/collision/closest_points.hpp"
 #include "cloth/collision/collision_candidates.hpp"
+#include "cloth/collision/rest_neighbours.hpp"
 #include "cloth/collision/unfolded_subtrees.hpp"
 #include "mesh_builders.hpp"
 
@@ -55,20 +55,14 @@ bool any_flagged(const CollisionMesh& m) {
   return std::any_of(f.begin(), f.end(), [](std::uint8_t x) { return x != 0; });
 }
 
+// Distances at positions x (rest_neighbours.hpp's, which take any positions).
 double distance_vertex_face(const Points& x, int v, const CollisionMesh& m, int f) {
-  const Vec3 p = x.row(v).transpose();
-  const Vec3 a = x.row(m.faces(f, 0)).transpose(), b = x.row(m.faces(f, 1)).transpose(),
-             c = x.row(m.faces(f, 2)).transpose();
-  const Vec3 w = closest_point_triangle(p, a, b, c);
-  return (p - (w[0] * a + w[1] * b + w[2] * c)).norm();
+  return rest_vertex_face_distance(x, v, {m.faces(f, 0), m.faces(f, 1), m.faces(f, 2)});
 }
 
 double distance_edge_edge(const Points& x, const std::array<int, 2>& e,
                           const std::array<int, 2>& g) {
-  const Vec3 p0 = x.row(e[0]).transpose(), p1 = x.row(e[1]).transpose(),
-             q0 = x.row(g[0]).transpose(), q1 = x.row(g[1]).transpose();
-  const Vec2 su = closest_points_segments(p0, p1, q0, q1);
-  return ((p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0))).norm();
+  return rest_edge_edge_distance(x, e, g);
 }
 
 /// Checks, by testing every pair, that the proximity candidates of `m` hold every vertex–face
