@@ -83,29 +83,39 @@ void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const B
     }
   }
   // Each base subtree's vertices, once, and the rest moments of every node over them.
-  m_base_start.assign(static_cast<std::size_t>(m_nodes), 0);
-  m_base_count.assign(static_cast<std::size_t>(m_nodes), 0);
-  m_base_vertices.clear();
+  m_vertex_begin.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_vertex_end.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_vertices.clear();
   m_rest.assign(static_cast<std::size_t>(m_nodes), RestMoments());
+  // Base subtrees: of at most kBaseFaces faces, under a bigger parent (nodes within are unused).
+  std::vector<std::uint8_t> within(static_cast<std::size_t>(m_nodes), 0);
+  for (int i = 0; i < m_nodes; ++i)
+    if (bvh.leaf_face(i) < 0 && (within[static_cast<std::size_t>(i)] != 0 ||
+                                 bvh.subtree_faces(i) <= kBaseFaces)) {
+      within[static_cast<std::size_t>(i + 1)] = 1;
+      within[static_cast<std::size_t>(bvh.right_child(i))] = 1;
+    }
   for (int i = m_nodes - 1; i >= 0; --i) {
-    RestMoments& rm = m_rest[static_cast<std::size_t>(i)];
+    const auto node = static_cast<std::size_t>(i);
+    if (within[node] != 0) continue;
+    RestMoments& rm = m_rest[node];
     const int n = bvh.subtree_faces(i);
     if (n <= kBaseFaces) {
-      const auto start = m_base_vertices.size();
+      const auto start = m_vertices.size();
       for (int j = i; j < i + 2 * n - 1; ++j) {
         const int face = bvh.leaf_face(j);
         if (face < 0) continue;
         for (int k = 0; k < 3; ++k) {
           const int v = faces(face, k);
-          if (std::find(m_base_vertices.begin() + static_cast<std::ptrdiff_t>(start),
-                        m_base_vertices.end(), v) == m_base_vertices.end())
-            m_base_vertices.push_back(v);
+          if (std::find(m_vertices.begin() + static_cast<std::ptrdiff_t>(start), m_vertices.end(),
+                        v) == m_vertices.end())
+            m_vertices.push_back(v);
         }
       }
-      m_base_start[static_cast<std::size_t>(i)] = static_cast<int>(start);
-      m_base_count[static_cast<std::size_t>(i)] = static_cast<int>(m_base_vertices.size() - start);
-      for (auto k = start; k < m_base_vertices.size(); ++k) {
-        const auto v = static_cast<std::size_t>(m_base_vertices[k]);
+      m_vertex_begin[node] = static_cast<int>(start);
+      m_vertex_end[node] = static_cast<int>(m_vertices.size());
+      for (auto k = start; k < m_vertices.size(); ++k) {
+        const auto v = static_cast<std::size_t>(m_vertices[k]);
         const double u0 = m_uv[2 * v], u1 = m_uv[2 * v + 1];
         rm.w += 1.0;
         rm.su[0] += u0;
@@ -115,11 +125,14 @@ void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const B
         rm.suu[2] += u1 * u1;
       }
     } else {
-      const RestMoments& l = m_rest[static_cast<std::size_t>(i + 1)];
-      const RestMoments& r = m_rest[static_cast<std::size_t>(bvh.right_child(i))];
-      rm.w = l.w + r.w;
-      for (int a = 0; a < 2; ++a) rm.su[a] = l.su[a] + r.su[a];
-      for (int a = 0; a < 3; ++a) rm.suu[a] = l.suu[a] + r.suu[a];
+      // Children after their parent and listed in reverse: the right child's vertices first.
+      const auto l = node + 1, r = static_cast<std::size_t>(bvh.right_child(i));
+      m_vertex_begin[node] = m_vertex_begin[r];
+      m_vertex_end[node] = m_vertex_end[l];
+      DEXCLOTH_DEMAND(m_vertex_end[r] == m_vertex_begin[l]);
+      rm.w = m_rest[l].w + m_rest[r].w;
+      for (int a = 0; a < 2; ++a) rm.su[a] = m_rest[l].su[a] + m_rest[r].su[a];
+      for (int a = 0; a < 3; ++a) rm.suu[a] = m_rest[l].suu[a] + m_rest[r].suu[a];
     }
     finish(rm);
   }
@@ -219,11 +232,29 @@ double UnfoldedSubtrees::deviation(const Fit& c, const double* uc, const Fit& n,
   return std::sqrt(worst);
 }
 
+double UnfoldedSubtrees::residual(int i, const Points& x, const Fit& ft,
+                                  const RestMoments& rest) const {
+  const int* begin = m_vertices.data() + m_vertex_begin[static_cast<std::size_t>(i)];
+  const int* end = m_vertices.data() + m_vertex_end[static_cast<std::size_t>(i)];
+  double worst = 0.0;
+  for (const int* v = begin; v != end; ++v) {
+    const double du0 = m_uv[static_cast<std::size_t>(2 * *v)] - rest.u[0];
+    const double du1 = m_uv[static_cast<std::size_t>(2 * *v + 1)] - rest.u[1];
+    double sq = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      const double e = x(*v, d) - ft.x[d] - ft.f[d][0] * du0 - ft.f[d][1] * du1;
+      sq += e * e;
+    }
+    worst = std::max(worst, sq);
+  }
+  return std::sqrt(worst);
+}
+
 UnfoldedSubtrees::Node UnfoldedSubtrees::visit_base(int i) const {
   Node n;
   const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
-  const int* begin = m_base_vertices.data() + m_base_start[static_cast<std::size_t>(i)];
-  const int* end = begin + m_base_count[static_cast<std::size_t>(i)];
+  const int* begin = m_vertices.data() + m_vertex_begin[static_cast<std::size_t>(i)];
+  const int* end = m_vertices.data() + m_vertex_end[static_cast<std::size_t>(i)];
   for (int s = 0; s < 2 && m_x[s] != nullptr; ++s) {
     const Points& x = *m_x[s];
     Moments& mo = n.moments[s];
@@ -239,25 +270,13 @@ UnfoldedSubtrees::Node UnfoldedSubtrees::visit_base(int i) const {
     }
     Fit& ft = n.fit[s];
     ft = fit(mo, rest);
-    if (ft.rho == kInfinity) continue;
-    double worst = 0.0;
-    for (const int* v = begin; v != end; ++v) {
-      const double du0 = m_uv[static_cast<std::size_t>(2 * *v)] - rest.u[0];
-      const double du1 = m_uv[static_cast<std::size_t>(2 * *v + 1)] - rest.u[1];
-      double sq = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        const double e = x(*v, d) - ft.x[d] - ft.f[d][0] * du0 - ft.f[d][1] * du1;
-        sq += e * e;
-      }
-      worst = std::max(worst, sq);
-    }
-    ft.rho = std::sqrt(worst);
+    if (ft.rho < kInfinity) ft.rho = residual(i, x, ft, rest);
   }
   return n;
 }
 
 UnfoldedSubtrees::Node UnfoldedSubtrees::combine(int i, int l, int r, const Node& left,
-                                                 const Node& right) const {
+                                                 const Node& right, bool measure) const {
   Node n;
   const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
   const RestMoments& rest_l = m_rest[static_cast<std::size_t>(l)];
@@ -274,6 +293,10 @@ UnfoldedSubtrees::Node UnfoldedSubtrees::combine(int i, int l, int r, const Node
     Fit& ft = n.fit[s];
     ft = fit(mo, rest);
     if (ft.rho == kInfinity) continue;
+    if (measure) {
+      ft.rho = residual(i, *m_x[s], ft, rest);
+      continue;
+    }
     ft.rho = std::max(left.fit[s].rho + deviation(left.fit[s], rest_l.u, ft, rest.u,
                                                   &m_box[static_cast<std::size_t>(4 * l)]),
                       right.fit[s].rho + deviation(right.fit[s], rest_r.u, ft, rest.u,
@@ -289,7 +312,8 @@ UnfoldedSubtrees::Node UnfoldedSubtrees::visit(const Bvh& bvh, int i) {
     return n;
   }
   const int l = i + 1, r = bvh.right_child(i);
-  const Node n = combine(i, l, r, visit(bvh, l), visit(bvh, r));
+  const Node n =
+      combine(i, l, r, visit(bvh, l), visit(bvh, r), bvh.subtree_faces(i) <= kMeasuredFaces);
   flag(i, n);
   return n;
 }
@@ -313,7 +337,7 @@ void UnfoldedSubtrees::run(const Bvh& bvh, WorkerPool* pool) {
   Node children[2];
   for_each_index(threaded ? pool : nullptr, 2,
                  [&](std::size_t k) { children[k] = visit(bvh, k == 0 ? l : r); });
-  flag(0, combine(0, l, r, children[0], children[1]));
+  flag(0, combine(0, l, r, children[0], children[1], bvh.subtree_faces(0) <= kMeasuredFaces));
 }
 
 void UnfoldedSubtrees::update(const Bvh& bvh, const Triangles& faces, const Points& x,

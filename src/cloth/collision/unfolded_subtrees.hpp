@@ -16,8 +16,8 @@ namespace dexcloth::collision {
 /// faces' corners from rest-plane coordinates u to positions x, and a bound ρ_N on how far any
 /// of its vertices lies from G_N. For points p, q of N's faces, |x_p − x_q| ≥ σ_min(F)·|u_p −
 /// u_q| − 2ρ_N, so when σ_min(F)·d − 2ρ_N ≥ reach, no two primitives of N whose rest distance
-/// is d or more come within the reach. ρ_N is exact for subtrees of up to kBaseFaces faces
-/// (measured at their corners) and bounded above them: max over the children c of ρ_c +
+/// is d or more come within the reach. ρ_N is exact for subtrees of up to kMeasuredFaces faces
+/// (measured at their vertices) and bounded above them: max over the children c of ρ_c +
 /// max |G_c − G_N| over c's rest box (an affine difference, largest at a corner of the box).
 ///
 /// Over a step's linear motion x0 → x1 the maps interpolate too: at time t every vertex is within
@@ -43,9 +43,12 @@ class UnfoldedSubtrees {
   /// One flag per node (nonzero: no contact within its subtree), for run_query's skip_self.
   const std::vector<std::uint8_t>& flags() const { return m_flags; }
 
-  /// Subtrees of up to this many faces get ρ from their corners directly (exact, and cheaper
-  /// than bounding it through their small nodes); smaller nodes are never flagged.
+  /// Subtrees of up to this many faces get their fits from their vertices directly; smaller
+  /// nodes are never flagged.
   static constexpr int kBaseFaces = 8;
+  /// Subtrees of up to this many faces measure ρ at their vertices (exact); above, it is bounded
+  /// through the children's fits.
+  static constexpr int kMeasuredFaces = 32;
 
  private:
   struct Fit {
@@ -70,12 +73,15 @@ class UnfoldedSubtrees {
   // Largest |G_c(u) − G_n(u)| over the corners of rest box `box` {u0 lo, u1 lo, u0 hi, u1 hi}.
   static double deviation(const Fit& c, const double* uc, const Fit& n, const double* un,
                           const double* box);
-  // The moments and fits of node i from its children's, with ρ bounded through theirs.
-  Node combine(int i, int l, int r, const Node& left, const Node& right) const;
+  // The moments and fits of node i from its children's, with ρ measured (`measure`) or bounded
+  // through theirs.
+  Node combine(int i, int l, int r, const Node& left, const Node& right, bool measure) const;
   // Node i's moments and fits, its descendants flagged on the way.
   Node visit(const Bvh& bvh, int i);
   // The same for a base subtree, from its vertices.
   Node visit_base(int i) const;
+  // The largest distance of node i's vertices at x from fit `ft` (with rest moments `rest`).
+  double residual(int i, const Points& x, const Fit& ft, const RestMoments& rest) const;
   void flag(int i, const Node& n);
   void run(const Bvh& bvh, WorkerPool* pool);
   // The least distance in the rest plane between two primitives that share no vertex [m].
@@ -87,9 +93,9 @@ class UnfoldedSubtrees {
   std::vector<double> m_uv;         // |V|×2 rest-plane coordinates [m]
   std::vector<double> m_box;        // per node, rest box {u0 lo, u1 lo, u0 hi, u1 hi} [m]
   std::vector<RestMoments> m_rest;  // per node
-  // The vertices of base subtree i: m_base_vertices[m_base_start[i] .. m_base_start[i] +
-  // m_base_count[i]), each once.
-  std::vector<int> m_base_start, m_base_count, m_base_vertices;
+  // The vertices of node i: m_vertices[m_vertex_begin[i] .. m_vertex_end[i]), each base
+  // subtree's once (a subtree's base subtrees are listed together).
+  std::vector<int> m_vertex_begin, m_vertex_end, m_vertices;
   // Of the update running:
   const Points* m_x[2]{};  // positions (x1 null: not swept)
   double m_distance{};     // rest distance less the flatness allowance [m]
