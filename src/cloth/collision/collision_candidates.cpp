@@ -86,7 +86,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       unfolded.update_swept(m_bvh[m], mesh.faces, m_topology[m], mesh.x0, mesh.x1, 2.0 * margin,
                             m_pool);
     } else {
-      unfolded.update(m_bvh[m], mesh.faces, mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
+      unfolded.update(m_bvh[m], mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
     }
     m_skip_self[m] = &unfolded.flags();
   }

@@ -90,8 +90,8 @@ void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const B
   // Base subtrees: of at most kBaseFaces faces, under a bigger parent (nodes within are unused).
   std::vector<std::uint8_t> within(static_cast<std::size_t>(m_nodes), 0);
   for (int i = 0; i < m_nodes; ++i)
-    if (bvh.leaf_face(i) < 0 && (within[static_cast<std::size_t>(i)] != 0 ||
-                                 bvh.subtree_faces(i) <= kBaseFaces)) {
+    if (bvh.leaf_face(i) < 0 &&
+        (within[static_cast<std::size_t>(i)] != 0 || bvh.subtree_faces(i) <= kBaseFaces)) {
       within[static_cast<std::size_t>(i + 1)] = 1;
       within[static_cast<std::size_t>(bvh.right_child(i))] = 1;
     }
@@ -340,9 +340,9 @@ void UnfoldedSubtrees::run(const Bvh& bvh, WorkerPool* pool) {
   flag(0, combine(0, l, r, children[0], children[1], bvh.subtree_faces(0) <= kMeasuredFaces));
 }
 
-void UnfoldedSubtrees::update(const Bvh& bvh, const Triangles& faces, const Points& x,
-                              double rest_distance, double reach, WorkerPool* pool) {
-  DEXCLOTH_DEMAND(built_for(bvh) && faces.rows() == bvh.num_faces());
+void UnfoldedSubtrees::update(const Bvh& bvh, const Points& x, double rest_distance, double reach,
+                              WorkerPool* pool) {
+  DEXCLOTH_DEMAND(built_for(bvh));
   m_x[0] = &x;
   m_x[1] = nullptr;
   // Rest distances measured in the rest plane are short of the true ones by the flatness at

@@ -13,7 +13,7 @@
 namespace dexcloth::collision {
 
 /// For every node N of a cloth's BVH: the least-squares affine map G_N(u) = m + F (u − ū) of its
-/// faces' corners from rest-plane coordinates u to positions x, and a bound ρ_N on how far any
+/// vertices from rest-plane coordinates u to positions x, and a bound ρ_N on how far any
 /// of its vertices lies from G_N. For points p, q of N's faces, |x_p − x_q| ≥ σ_min(F)·|u_p −
 /// u_q| − 2ρ_N, so when σ_min(F)·d − 2ρ_N ≥ reach, no two primitives of N whose rest distance
 /// is d or more come within the reach. ρ_N is exact for subtrees of up to kMeasuredFaces faces
@@ -30,12 +30,12 @@ class UnfoldedSubtrees {
   void build(const Points& rest, const Triangles& faces, const Bvh& bvh);
   /// True when built for a tree of `bvh`'s node count.
   bool built_for(const Bvh& bvh) const { return m_nodes == bvh.num_nodes() && m_nodes > 0; }
-  /// Flags the inner nodes of `bvh` with more than kBaseFaces faces or exactly that many whose
-  /// subtree holds no two primitives within `reach` [m] of each other at positions `x` unless
-  /// their rest distance is below `rest_distance` [m] (rest neighbours). Runs on `pool`'s threads
-  /// where the tree is big enough (null: the calling thread); the flags do not depend on it.
-  void update(const Bvh& bvh, const Triangles& faces, const Points& x, double rest_distance,
-              double reach, WorkerPool* pool = nullptr);
+  /// Flags the base subtrees of `bvh` (see kBaseFaces) and the nodes above them whose subtree
+  /// holds no two primitives within `reach` [m] of each other at positions `x` unless their rest
+  /// distance is below `rest_distance` [m] (rest neighbours). Runs on `pool`'s threads where the
+  /// tree is big enough (null: the calling thread); the flags do not depend on it.
+  void update(const Bvh& bvh, const Points& x, double rest_distance, double reach,
+              WorkerPool* pool = nullptr);
   /// The same for the linear motion x0 → x1: flags the subtrees in which no two primitives that
   /// share no vertex come within `reach` of each other at any time of the motion.
   void update_swept(const Bvh& bvh, const Triangles& faces, const MeshTopology& topology,
@@ -43,8 +43,8 @@ class UnfoldedSubtrees {
   /// One flag per node (nonzero: no contact within its subtree), for run_query's skip_self.
   const std::vector<std::uint8_t>& flags() const { return m_flags; }
 
-  /// Subtrees of up to this many faces get their fits from their vertices directly; smaller
-  /// nodes are never flagged.
+  /// Base subtrees, of up to this many faces under a bigger parent, get their fits from their
+  /// vertices directly; the nodes within them are never flagged.
   static constexpr int kBaseFaces = 8;
   /// Subtrees of up to this many faces measure ρ at their vertices (exact); above, it is bounded
   /// through the children's fits.
@@ -52,7 +52,7 @@ class UnfoldedSubtrees {
 
  private:
   struct Fit {
-    double x[3]{};     // m, mean position of the corners [m]
+    double x[3]{};     // m, mean position of the vertices [m]
     double f[3][2]{};  // F, the map's linear part
     double rho{};      // bound on any vertex's distance from the map [m] (∞: no fit)
   };

@@ -45,7 +45,7 @@ std::vector<std::uint8_t> flags(const CollisionMesh& m, double rest_distance = k
   bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
   UnfoldedSubtrees unfolded;
   unfolded.build(m.rest, m.faces, bvh);
-  unfolded.update(bvh, m.faces, m.x0, rest_distance, kReach);
+  unfolded.update(bvh, m.x0, rest_distance, kReach);
   return unfolded.flags();
 }
 
