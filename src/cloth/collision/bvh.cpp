@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "cloth/collision/mesh_topology.hpp"
+#include "cloth/collision/unfolded_windows.hpp"
 #include "core/assert.hpp"
 
 namespace dexcloth::collision {
@@ -90,7 +91,17 @@ struct BvhTraversal {
   const std::vector<Bvh::Node>& nb;
   const Triangles* faces;  // set for a self query that skips adjacent faces
   std::vector<FacePair>& out;
-  const std::vector<std::uint8_t>* skip_self{};  // per node: leave out pairs within its subtree
+  const SelfSkip* skip{};  // of a self query: the pairs to leave out
+
+  // Whether `skip` leaves out the pairs within subtree i, or those between subtrees i and j.
+  static bool skips_self(const SelfSkip* skip, int i) {
+    return skip != nullptr &&
+           ((skip->subtrees != nullptr && (*skip->subtrees)[static_cast<std::size_t>(i)] != 0) ||
+            (skip->windows != nullptr && skip->windows->skips(i, i)));
+  }
+  static bool skips_pair(const SelfSkip* skip, int i, int j) {
+    return skip != nullptr && skip->windows != nullptr && skip->windows->skips(i, j);
+  }
 
   static bool overlap(const Bvh::Node& p, const Bvh::Node& q) {
     return p.lo[0] <= q.hi[0] && q.lo[0] <= p.hi[0] && p.lo[1] <= q.hi[1] && q.lo[1] <= p.hi[1] &&
@@ -110,6 +121,7 @@ struct BvhTraversal {
     const Bvh::Node& p = na[static_cast<std::size_t>(i)];
     const Bvh::Node& q = nb[static_cast<std::size_t>(j)];
     if (!overlap(p, q)) return;
+    if (skips_pair(skip, i, j)) return;
     const bool leaf_p = p.face >= 0, leaf_q = q.face >= 0;
     if (leaf_p && leaf_q) {
       if (faces != nullptr && faces_adjacent(*faces, p.face, q.face)) return;
@@ -130,7 +142,7 @@ struct BvhTraversal {
   void self(int i) {
     const Bvh::Node& n = na[static_cast<std::size_t>(i)];
     if (n.face >= 0) return;
-    if (skip_self != nullptr && (*skip_self)[static_cast<std::size_t>(i)] != 0) return;
+    if (skips_self(skip, i)) return;
     self(i + 1);
     self(n.right);
     pair(i + 1, n.right);
@@ -151,7 +163,7 @@ void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_ad
 }
 
 void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
-                 const std::vector<std::uint8_t>* skip_self) {
+                 const SelfSkip* skip) {
   out.clear();
   if (a.empty() || b.empty()) return;
   out.push_back({0, 0, self});
@@ -162,12 +174,14 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
   // none for a pair of disjoint boxes or of two leaves, which split no further.
   const auto size = [&](const BvhQuery& q) {
     const Bvh::Node& p = na[static_cast<std::size_t>(q.i)];
-    if (q.self) {
-      const bool skipped = skip_self != nullptr && (*skip_self)[static_cast<std::size_t>(q.i)] != 0;
-      return p.face >= 0 || skipped ? 0.0 : static_cast<double>(p.faces) * p.faces;
-    }
+    if (q.self)
+      return p.face >= 0 || BvhTraversal::skips_self(skip, q.i)
+                 ? 0.0
+                 : static_cast<double>(p.faces) * p.faces;
     const Bvh::Node& r = nb[static_cast<std::size_t>(q.j)];
-    if ((p.face >= 0 && r.face >= 0) || !BvhTraversal::overlap(p, r)) return 0.0;
+    if ((p.face >= 0 && r.face >= 0) || !BvhTraversal::overlap(p, r) ||
+        BvhTraversal::skips_pair(skip, q.i, q.j))
+      return 0.0;
     return static_cast<double>(p.faces) * r.faces;
   };
   while (static_cast<int>(out.size()) < pieces) {
@@ -200,18 +214,19 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
 }
 
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out, const std::vector<std::uint8_t>* skip_self) {
+                        std::vector<BvhQuery>& out, const SelfSkip* skip) {
   const bool threaded = pool != nullptr && pool->threads() > 1 &&
                         std::min(a.num_faces(), b.num_faces()) >= kParallelQueryFaces;
-  split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out, skip_self);
+  split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out, skip);
   return threaded ? pool : nullptr;
 }
 
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self) {
+               std::vector<FacePair>& out, const SelfSkip* skip) {
   if (a.empty() || b.empty()) return;
-  DEXCLOTH_DEMAND(skip_self == nullptr || (&a == &b && skip_self->size() == a.m_nodes.size()));
-  BvhTraversal t{a.m_nodes, b.m_nodes, faces, out, skip_self};
+  DEXCLOTH_DEMAND(skip == nullptr || (&a == &b && (skip->subtrees == nullptr ||
+                                                   skip->subtrees->size() == a.m_nodes.size())));
+  BvhTraversal t{a.m_nodes, b.m_nodes, faces, out, skip};
   if (query.self) {
     t.self(query.i);
   } else {

@@ -20,6 +20,15 @@ struct FacePair {
 inline constexpr int kPiecesPerThread = 32;
 inline constexpr int kParallelQueryFaces = 1000;
 
+class UnfoldedWindows;
+
+/// What a self query may leave out, the caller having shown that none of those pairs matters.
+struct SelfSkip {
+  const std::vector<std::uint8_t>* subtrees{};  ///< per node: the pairs within its subtree
+  const UnfoldedWindows*
+      windows{};  ///< the pairs of nodes whose rest boxes fit in a flagged window
+};
+
 /// A piece of an overlap query (split_query): the pairs between subtree `i` of the first tree
 /// and subtree `j` of the second, or, for `self`, the unordered pairs within subtree `i`.
 struct BvhQuery {
@@ -59,22 +68,20 @@ class Bvh {
                                      std::vector<FacePair>& out);
   /// Splits the query of overlapping_faces(a, b) (or, with `self` and b the same tree as a, of
   /// self_overlapping_faces(a)) into at least `pieces` pieces where the trees allow, the biggest
-  /// split first, such that the pieces' outputs (run_query, given the same `skip_self`),
-  /// concatenated in order, are the whole query's in its order. A skipped node is not split.
+  /// split first, such that the pieces' outputs (run_query, given the same `skip`),
+  /// concatenated in order, are the whole query's in its order. A skipped piece is not split.
   friend void split_query(const Bvh& a, const Bvh& b, bool self, int pieces,
-                          std::vector<BvhQuery>& out, const std::vector<std::uint8_t>* skip_self);
+                          std::vector<BvhQuery>& out, const SelfSkip* skip);
   /// The same split for running on `pool` (null: one thread): into kPiecesPerThread pieces per
   /// thread when the query's smaller tree holds kParallelQueryFaces faces or more (waking the
   /// pool costs tens of µs), else one. Returns the pool to run the pieces on, or null.
   friend WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                                 std::vector<BvhQuery>& out,
-                                 const std::vector<std::uint8_t>* skip_self);
+                                 std::vector<BvhQuery>& out, const SelfSkip* skip);
   /// Appends the pairs of one piece of a query to `out` (skipping faces adjacent in `faces`
-  /// when it is not null, as self_overlapping_faces with skip_adjacent). With `skip_self` (one
-  /// flag per node of a self query's tree), the pairs within a flagged node's subtree are left
-  /// out: the caller has shown that none of them matters.
+  /// when it is not null, as self_overlapping_faces with skip_adjacent). With `skip` (a self
+  /// query only), the pairs it names are left out.
   friend void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-                        std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self);
+                        std::vector<FacePair>& out, const SelfSkip* skip);
 
  private:
   struct Node {
@@ -98,11 +105,10 @@ void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out);
 void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
-                 const std::vector<std::uint8_t>* skip_self = nullptr);
+                 const SelfSkip* skip = nullptr);
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out,
-                        const std::vector<std::uint8_t>* skip_self = nullptr);
+                        std::vector<BvhQuery>& out, const SelfSkip* skip = nullptr);
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out, const std::vector<std::uint8_t>* skip_self = nullptr);
+               std::vector<FacePair>& out, const SelfSkip* skip = nullptr);
 
 }  // namespace dexcloth::collision

@@ -1,6 +1,7 @@
 #include "cloth/collision/collision_candidates.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/assert.hpp"
 
@@ -33,6 +34,16 @@ std::uint16_t owned_bits(std::uint8_t va, std::uint8_t ea, std::uint8_t vb, std:
   return bits;
 }
 
+// The mean length of a cloth's edges in its rest plane [m].
+double mean_edge(const std::vector<double>& uv, const MeshTopology& topology) {
+  double sum = 0.0;
+  for (const std::array<int, 2>& e : topology.edges) {
+    const auto a = static_cast<std::size_t>(e[0]), b = static_cast<std::size_t>(e[1]);
+    sum += std::hypot(uv[2 * a] - uv[2 * b], uv[2 * a + 1] - uv[2 * b + 1]);
+  }
+  return topology.edges.empty() ? 0.0 : sum / static_cast<double>(topology.edges.size());
+}
+
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
   return e[0] == g[0] || e[0] == g[1] || e[1] == g[0] || e[1] == g[1];
 }
@@ -59,6 +70,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       m_bvh[m].build(mesh.faces, mesh.x0, x1, margin);
       if (m_rest.size() > m) m_rest[m] = RestNeighbours();
       if (m_unfolded.size() > m) m_unfolded[m] = UnfoldedSubtrees();
+      if (m_windows.size() > m) m_windows[m] = {};
     } else {
       m_bvh[m].refit(mesh.faces, mesh.x0, x1, margin);
     }
@@ -71,24 +83,40 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
         mesh.self_collision)
       m_rest[m].build(mesh.rest, mesh.faces, m_topology[m], m_rest_distance);
   }
-  // Subtrees of each self-colliding cloth with a rest shape that hold no pair the search must
-  // find: no two primitives within 2·margin unless they share a vertex (swept, over the motion)
-  // or are rest neighbours (proximity).
+  // Subtrees of each self-colliding cloth with a rest shape, and windows of its rest plane, that
+  // hold no pair the search must find: no two primitives within 2·margin unless they share a
+  // vertex (swept, over the motion) or are rest neighbours (proximity).
   m_unfolded.resize(nm);
-  m_skip_self.assign(nm, nullptr);
+  m_windows.resize(nm);
+  m_mean_edge.resize(nm);
+  m_skip.assign(nm, SelfSkip{});
   for (std::size_t m = 0; m < nm; ++m) {
     const CollisionMesh& mesh = *meshes[m];
     if (mesh.obstacle || !mesh.self_collision || mesh.rest.rows() == 0) continue;
     if (!swept && rest_neighbours(static_cast<int>(m)) == nullptr) continue;
     UnfoldedSubtrees& unfolded = m_unfolded[m];
-    if (!unfolded.built_for(m_bvh[m])) unfolded.build(mesh.rest, mesh.faces, m_bvh[m]);
+    UnfoldedWindows& windows = m_windows[m][swept ? 1 : 0];
+    if (!unfolded.built_for(m_bvh[m])) {
+      unfolded.build(mesh.rest, mesh.faces, m_bvh[m]);
+      m_mean_edge[m] = mean_edge(unfolded.rest_plane(), m_topology[m]);
+    }
+    // The stride: the rest extent of two faces about to be in reach, so that most face pairs
+    // the search finds fit in a window.
+    const double stride = 2.0 * m_mean_edge[m] + 2.0 * margin;
+    if (!windows.built_for(m_bvh[m].num_nodes(), stride))
+      windows.build(unfolded.rest_plane(), mesh.faces, m_topology[m], unfolded.rest_boxes(),
+                    stride);
     if (swept) {
       unfolded.update_swept(m_bvh[m], mesh.faces, m_topology[m], mesh.x0, mesh.x1, 2.0 * margin,
                             m_pool);
+      windows.update_swept(mesh.x0, mesh.x1, unfolded.separation(mesh.faces, m_topology[m]),
+                           2.0 * margin, m_pool);
     } else {
       unfolded.update(m_bvh[m], mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
+      // Rest distances in the rest plane are short of the true ones by the flatness at each end.
+      windows.update(mesh.x0, m_rest_distance - 2.0 * unfolded.flatness(), 2.0 * margin, m_pool);
     }
-    m_skip_self[m] = &unfolded.flags();
+    m_skip[m] = SelfSkip{&unfolded.flags(), &windows};
   }
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
   m_vertex_boxes.resize(nm);
@@ -150,8 +178,7 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   // (the order of the whole query, whichever thread ran a piece). The pieces' work is far from
   // even (a sheet's self query is mostly within halves, little between them: handed out
   // round-robin, one of two threads did three quarters of pinch_move's).
-  const std::vector<std::uint8_t>* skip =
-      self ? m_skip_self[static_cast<std::size_t>(ma)] : nullptr;
+  const SelfSkip* skip = self ? &m_skip[static_cast<std::size_t>(ma)] : nullptr;
   WorkerPool* pool = split_query(ta, tb, self, m_pool, m_queries, skip);
   const std::size_t pieces = m_queries.size();
   if (m_piece_pairs.size() < pieces) {

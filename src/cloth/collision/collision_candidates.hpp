@@ -1,6 +1,7 @@
 #pragma once
 /// Broad phase of collision handling: per-mesh BVHs and topology kept between steps, and the
 /// primitive pairs (vertex–face, edge–edge) whose face boxes overlap, each generated once.
+#include <array>
 #include <vector>
 
 #include "cloth/collision/bvh.hpp"
@@ -8,6 +9,7 @@
 #include "cloth/collision/mesh_topology.hpp"
 #include "cloth/collision/rest_neighbours.hpp"
 #include "cloth/collision/unfolded_subtrees.hpp"
+#include "cloth/collision/unfolded_windows.hpp"
 #include "core/worker_pool.hpp"
 
 namespace dexcloth::collision {
@@ -45,9 +47,10 @@ class CollisionCandidates {
   /// mesh (unless its `self_collision` is off), between cloth meshes, between cloth and
   /// obstacles (never obstacle–obstacle). Pairs sharing a vertex are left out. Each pair
   /// appears once. Within a cloth with a planar rest shape, the pairs of whole subtrees of its
-  /// tree that are shown to hold none within 2·margin are left out too (UnfoldedSubtrees): swept,
+  /// tree (UnfoldedSubtrees), and of nodes whose rest boxes fit in a window of its rest plane
+  /// (UnfoldedWindows), that are shown to hold none within 2·margin are left out too: swept,
   /// none within 2·margin at any time of the linear motion x0 → x1; otherwise, none but rest
-  /// neighbours (set_rest_neighbour_distance; no subtree is left out while that is 0). So every
+  /// neighbours (set_rest_neighbour_distance; nothing is left out while that is 0). So every
   /// pair within 2·margin is found, but not every pair whose boxes overlap.
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
@@ -81,10 +84,12 @@ class CollisionCandidates {
 
   WorkerPool* m_pool{};
   double m_rest_distance{};
-  std::vector<RestNeighbours> m_rest;                         // per mesh
-  std::vector<UnfoldedSubtrees> m_unfolded;                   // per mesh
-  std::vector<const std::vector<std::uint8_t>*> m_skip_self;  // per mesh: its flags, or null
-  std::vector<BvhQuery> m_queries;                            // pieces of a face-pair query
+  std::vector<RestNeighbours> m_rest;                     // per mesh
+  std::vector<UnfoldedSubtrees> m_unfolded;               // per mesh
+  std::vector<std::array<UnfoldedWindows, 2>> m_windows;  // per mesh: proximity, swept
+  std::vector<double> m_mean_edge;  // per mesh: of its rest plane, when its subtrees were built
+  std::vector<SelfSkip> m_skip;     // per mesh: what its self query leaves out
+  std::vector<BvhQuery> m_queries;  // pieces of a face-pair query
   // Each piece's face pairs and their primitive pairs.
   std::vector<std::vector<FacePair>> m_piece_pairs;
   std::vector<std::vector<VertexFacePair>> m_piece_vf;

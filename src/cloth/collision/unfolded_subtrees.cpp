@@ -179,6 +179,11 @@ double UnfoldedSubtrees::least_separation(const Triangles& faces,
   return least;
 }
 
+double UnfoldedSubtrees::separation(const Triangles& faces, const MeshTopology& topology) {
+  if (m_separation < 0.0) m_separation = least_separation(faces, topology);
+  return m_separation;
+}
+
 void UnfoldedSubtrees::finish(RestMoments& rest) {
   rest.u[0] = rest.su[0] / rest.w;
   rest.u[1] = rest.su[1] / rest.w;
@@ -356,10 +361,9 @@ void UnfoldedSubtrees::update_swept(const Bvh& bvh, const Triangles& faces,
                                     const MeshTopology& topology, const Points& x0,
                                     const Points& x1, double reach, WorkerPool* pool) {
   DEXCLOTH_DEMAND(built_for(bvh) && faces.rows() == bvh.num_faces());
-  if (m_separation < 0.0) m_separation = least_separation(faces, topology);
   m_x[0] = &x0;
   m_x[1] = &x1;
-  m_distance = m_separation;  // measured in the rest plane
+  m_distance = separation(faces, topology);  // measured in the rest plane
   m_needed = reach * (1.0 + 1e-9) + 1e-12;
   run(bvh, pool);
 }

@@ -40,8 +40,17 @@ class UnfoldedSubtrees {
   /// share no vertex come within `reach` of each other at any time of the motion.
   void update_swept(const Bvh& bvh, const Triangles& faces, const MeshTopology& topology,
                     const Points& x0, const Points& x1, double reach, WorkerPool* pool = nullptr);
-  /// One flag per node (nonzero: no contact within its subtree), for run_query's skip_self.
+  /// One flag per node (nonzero: no contact within its subtree), for run_query's skip.
   const std::vector<std::uint8_t>& flags() const { return m_flags; }
+  /// The rest-plane coordinates of the vertices (|V|×2) [m] and the nodes' rest boxes (4 per
+  /// node: {u0 lo, u1 lo, u0 hi, u1 hi}) [m], as built.
+  const std::vector<double>& rest_plane() const { return m_uv; }
+  const std::vector<double>& rest_boxes() const { return m_box; }
+  /// The largest distance of a rest vertex from the rest plane [m].
+  double flatness() const { return m_flatness; }
+  /// The least distance in the rest plane between two primitives of `faces` that share no
+  /// vertex [m] (computed on the first call after a build).
+  double separation(const Triangles& faces, const MeshTopology& topology);
 
   /// Base subtrees, of up to this many faces under a bigger parent, get their fits from their
   /// vertices directly; the nodes within them are never flagged.
