@@ -24,9 +24,10 @@ class UnfoldedWindows;
 
 /// What a self query may leave out, the caller having shown that none of those pairs matters.
 struct SelfSkip {
-  const std::vector<std::uint8_t>* subtrees{};  ///< per node: the pairs within its subtree
-  const UnfoldedWindows*
-      windows{};  ///< the pairs of nodes whose rest boxes fit in a flagged window
+  /// Per node: the pairs within its subtree.
+  const std::vector<std::uint8_t>* subtrees{};
+  /// The pairs of nodes whose rest boxes fit together in a flagged window.
+  const UnfoldedWindows* windows{};
 };
 
 /// A piece of an overlap query (split_query): the pairs between subtree `i` of the first tree

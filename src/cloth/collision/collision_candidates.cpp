@@ -109,14 +109,19 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     if (swept) {
       unfolded.update_swept(m_bvh[m], mesh.faces, m_topology[m], mesh.x0, mesh.x1, 2.0 * margin,
                             m_pool);
+    } else {
+      unfolded.update(m_bvh[m], mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
+    }
+    m_skip[m] = SelfSkip{&unfolded.flags(), nullptr};
+    if (unfolded.flags()[0] != 0) continue;  // the whole cloth is left out: no window is asked
+    if (swept) {
       windows.update_swept(mesh.x0, mesh.x1, unfolded.separation(mesh.faces, m_topology[m]),
                            2.0 * margin, m_pool);
     } else {
-      unfolded.update(m_bvh[m], mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
       // Rest distances in the rest plane are short of the true ones by the flatness at each end.
       windows.update(mesh.x0, m_rest_distance - 2.0 * unfolded.flatness(), 2.0 * margin, m_pool);
     }
-    m_skip[m] = SelfSkip{&unfolded.flags(), &windows};
+    m_skip[m].windows = &windows;
   }
   // Boxes of every vertex (x0, and x1 when swept, inflated by margin) and edge, once per update.
   m_vertex_boxes.resize(nm);
