@@ -224,8 +224,10 @@ WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
                std::vector<FacePair>& out, const SelfSkip* skip) {
   if (a.empty() || b.empty()) return;
-  DEXCLOTH_DEMAND(skip == nullptr || (&a == &b && (skip->subtrees == nullptr ||
-                                                   skip->subtrees->size() == a.m_nodes.size())));
+  DEXCLOTH_DEMAND(skip == nullptr ||
+                  (&a == &b &&
+                   (skip->subtrees == nullptr || skip->subtrees->size() == a.m_nodes.size()) &&
+                   (skip->windows == nullptr || skip->windows->num_nodes() == a.num_nodes())));
   BvhTraversal t{a.m_nodes, b.m_nodes, faces, out, skip};
   if (query.self) {
     t.self(query.i);

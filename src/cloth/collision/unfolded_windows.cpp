@@ -80,12 +80,12 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
   const auto nf = static_cast<std::size_t>(faces.rows());
   m_nodes = static_cast<int>(boxes.size() / 4);
   m_stride = stride;
-  const double inverse_stride = 1.0 / stride;
   const auto at = [&](int v) {
     return Point2{uv[2 * static_cast<std::size_t>(v)], uv[2 * static_cast<std::size_t>(v) + 1]};
   };
-  // The mesh's rest bounding box D.
-  double domain[4] = {uv[0], uv[1], uv[0], uv[1]};
+  // The rest bounding box D of the faces' vertices.
+  const Point2 first = at(faces(0, 0));
+  double domain[4] = {first[0], first[1], first[0], first[1]};
   m_corners.resize(3 * nf);
   for (std::size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
@@ -99,9 +99,12 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
     }
   m_origin[0] = domain[0];
   m_origin[1] = domain[1];
+  // Cells must fit 16 bits: a cloth longer than 8,000 strides gets wider ones.
+  const double size = std::max(domain[2] - domain[0], domain[3] - domain[1]);
+  stride = std::max(stride, size / 8000.0);
+  const double inverse_stride = 1.0 / stride;
   m_columns = static_cast<int>((domain[2] - domain[0]) * inverse_stride) + 1;
   m_rows = static_cast<int>((domain[3] - domain[1]) * inverse_stride) + 1;
-  DEXCLOTH_DEMAND(std::max(m_columns, m_rows) < 16000);  // cells fit 16 bits
   // Each node's cells (its box is within D, so they lie in [0, columns] × [0, rows]).
   m_cells.resize(static_cast<std::size_t>(m_nodes));
   for (std::size_t i = 0; i < m_cells.size(); ++i)
@@ -114,7 +117,6 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
     }
   const auto nw = static_cast<std::size_t>(m_columns) * static_cast<std::size_t>(m_rows);
   const double hair = 1e-9 * stride;  // windows grow by this for skips' rounding
-  const double size = std::max(domain[2] - domain[0], domain[3] - domain[1]);
   // Q of window (c0, c1): the window grown by the hair, clipped to D.
   const auto region = [&](int c0, int c1, double* q) {
     q[0] = std::max(domain[0], m_origin[0] + c0 * stride - hair);
@@ -292,15 +294,17 @@ void UnfoldedWindows::start(int sets, double distance, double reach) {
 
 void UnfoldedWindows::update(const Points& x, double distance, double reach, WorkerPool* pool) {
   DEXCLOTH_DEMAND(m_nodes > 0);
-  jacobians(0, x, pool);
+  if (distance > 0.0) jacobians(0, x, pool);
   start(1, distance, reach);
 }
 
 void UnfoldedWindows::update_swept(const Points& x0, const Points& x1, double distance,
                                    double reach, WorkerPool* pool) {
   DEXCLOTH_DEMAND(m_nodes > 0);
-  jacobians(0, x0, pool);
-  jacobians(1, x1, pool);
+  if (distance > 0.0) {
+    jacobians(0, x0, pool);
+    jacobians(1, x1, pool);
+  }
   start(2, distance, reach);
 }
 

@@ -32,9 +32,9 @@ namespace dexcloth::collision {
 
 class UnfoldedWindows {
  public:
-  /// Windows of stride `stride` [m] over the rest-plane coordinates `uv` (|V|×2, a planar rest
-  /// shape's) of `faces`, for a BVH whose nodes have the rest boxes `boxes` (4 per node:
-  /// {u0 lo, u1 lo, u0 hi, u1 hi}).
+  /// Windows of stride `stride` [m] (wider if the cloth spans over 8,000 of them) over the
+  /// rest-plane coordinates `uv` (|V|×2, a planar rest shape's) of `faces`, for a BVH whose nodes
+  /// have the rest boxes `boxes` (4 per node: {u0 lo, u1 lo, u0 hi, u1 hi}).
   void build(std::span<const double> uv, const Triangles& faces, const MeshTopology& topology,
              std::span<const double> boxes, double stride);
   /// True when built with `stride` for a tree of `nodes` nodes.
@@ -42,8 +42,8 @@ class UnfoldedWindows {
     return m_nodes == nodes && m_stride == stride && nodes > 0;
   }
   /// Prepares the windows' flags at positions `x` (|V|×3): a window is flagged when no two
-  /// points of its faces whose rest-plane distance is at least `distance` [m] come within
-  /// `reach` [m] of each other. Each window's flag is worked out when first asked for (most
+  /// points of its cloth within it whose rest-plane distance is at least `distance` [m] come
+  /// within `reach` [m] of each other. Each window's flag is worked out when first asked for (most
   /// windows of a cloth whose subtrees are unfolded never are).
   void update(const Points& x, double distance, double reach, WorkerPool* pool = nullptr);
   /// The same over the linear motion x0 → x1: at every time of it.
@@ -65,6 +65,8 @@ class UnfoldedWindows {
            flagged(static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_columns) +
                    static_cast<std::size_t>(c0));
   }
+  /// Nodes of the tree it was built for.
+  int num_nodes() const { return m_nodes; }
   /// Windows, row-major over the rest plane's cells.
   std::size_t num_windows() const { return m_covered.size(); }
   /// Whether window w's cloth covers it once (only those can be flagged).
