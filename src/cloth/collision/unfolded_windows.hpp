@@ -54,16 +54,22 @@ class UnfoldedWindows {
   /// out: their rest boxes fit together in a flagged window. Safe on several threads at once.
   bool skips(int i, int j) const {
     // Window (c0, c1) spans cells c..c + 1 on each axis: the boxes' lowest cell and their
-    // highest one at most one above it.
+    // highest one at most one above it (and, where both are one cell, the window one lower).
     const Cells& a = m_cells[static_cast<std::size_t>(i)];
     const Cells& b = m_cells[static_cast<std::size_t>(j)];
     const int c0 = a.lo[0] < b.lo[0] ? a.lo[0] : b.lo[0];
     const int c1 = a.lo[1] < b.lo[1] ? a.lo[1] : b.lo[1];
     const int h0 = a.hi[0] > b.hi[0] ? a.hi[0] : b.hi[0];
     const int h1 = a.hi[1] > b.hi[1] ? a.hi[1] : b.hi[1];
-    return h0 <= c0 + 1 && h1 <= c1 + 1 &&
-           flagged(static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_columns) +
-                   static_cast<std::size_t>(c0));
+    if (h0 > c0 + 1 || h1 > c1 + 1) return false;
+    const auto window = [&](int w0, int w1) {
+      return static_cast<std::size_t>(w1) * static_cast<std::size_t>(m_columns) +
+             static_cast<std::size_t>(w0);
+    };
+    if (flagged(window(c0, c1))) return true;
+    const bool lower0 = h0 == c0 && c0 > 0, lower1 = h1 == c1 && c1 > 0;
+    return (lower0 && flagged(window(c0 - 1, c1))) || (lower1 && flagged(window(c0, c1 - 1))) ||
+           (lower0 && lower1 && flagged(window(c0 - 1, c1 - 1)));
   }
   /// Nodes of the tree it was built for.
   int num_nodes() const { return m_nodes; }
