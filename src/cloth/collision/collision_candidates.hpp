@@ -71,6 +71,11 @@ class CollisionCandidates {
   const std::vector<EdgeEdgePair>& edge_edge() const { return m_ee; }
   /// Topology (edges, ownership) of mesh `m` as of the last `update`.
   const MeshTopology& topology(int m) const { return m_topology[static_cast<std::size_t>(m)]; }
+  /// The windows the last `update` left mesh m's self pairs out by, or null (none used).
+  const UnfoldedWindows* windows(int m) const {
+    return m_skip.size() > static_cast<std::size_t>(m) ? m_skip[static_cast<std::size_t>(m)].windows
+                                                       : nullptr;
+  }
 
  private:
   void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb);

@@ -214,6 +214,7 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
       if (m_covered[w] != 0) m_faces.insert(m_faces.end(), lists[w].begin(), lists[w].end());
       m_face_start.push_back(static_cast<int>(m_faces.size()));
     }
+  m_any_covered = std::find(m_covered.begin(), m_covered.end(), 1) != m_covered.end();
   m_state = std::vector<std::atomic<std::uint8_t>>(nw);
   m_sets = 0;
   m_jacobian[0].assign(6 * nf, 0.0);
@@ -294,14 +295,14 @@ void UnfoldedWindows::start(int sets, double distance, double reach) {
 
 void UnfoldedWindows::update(const Points& x, double distance, double reach, WorkerPool* pool) {
   DEXCLOTH_DEMAND(m_nodes > 0);
-  if (distance > 0.0) jacobians(0, x, pool);
+  if (distance > 0.0 && m_any_covered) jacobians(0, x, pool);
   start(1, distance, reach);
 }
 
 void UnfoldedWindows::update_swept(const Points& x0, const Points& x1, double distance,
                                    double reach, WorkerPool* pool) {
   DEXCLOTH_DEMAND(m_nodes > 0);
-  if (distance > 0.0) {
+  if (distance > 0.0 && m_any_covered) {
     jacobians(0, x0, pool);
     jacobians(1, x1, pool);
   }

@@ -109,8 +109,9 @@ class UnfoldedWindows {
   // Per window, of the last update: kUnknown until asked for (threads asking at once work it
   // out alike).
   mutable std::vector<std::atomic<std::uint8_t>> m_state;
-  int m_sets{};                        // of the last update: 1, or 2 (swept)
-  double m_needed{};                   // of the last update: the κ a flag needs
+  bool m_any_covered{};  // whether any window is covered once (else no Jacobians are needed)
+  int m_sets{};          // of the last update: 1, or 2 (swept)
+  double m_needed{};     // of the last update: the κ a flag needs
   std::vector<double> m_rest_inverse;  // per face: inverse of its rest edge matrix, 4 entries
   std::vector<int> m_corners;          // per face: its three vertices
   std::vector<double> m_jacobian[2];   // per face: J_f at x0 (and x1), 6 entries column-major

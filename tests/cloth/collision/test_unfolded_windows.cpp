@@ -118,6 +118,25 @@ TEST(UnfoldedWindows, AWavySheetIsUnfoldedInEveryWindowThoughNotInItsBiggerSubtr
   EXPECT_GT(expect_every_close_pair_found(folded), 1000);
 }
 
+TEST(UnfoldedWindows, TheCandidatesOfAWavySheetUseItsWindowsInBothSearches) {
+  // The wavy sheet through CollisionCandidates: the proximity and the swept search both leave
+  // pairs out by its windows, every one of them flagged (the candidate tests elsewhere only show
+  // that nothing within reach is lost, which holds without any culling).
+  const CollisionMesh m = wavy_sheet(40, 4e-3, 50e-3);
+  CollisionCandidates candidates;
+  candidates.set_rest_neighbour_distance(kRestDistance);
+  for (const bool swept : {false, true}) {
+    candidates.update({&m}, swept, swept ? 0.5e-3 : 0.5 * kReach);
+    const UnfoldedWindows* w = candidates.windows(0);
+    ASSERT_NE(w, nullptr) << swept;
+    EXPECT_EQ(flagged(*w), static_cast<int>(w->num_windows())) << swept;
+  }
+  // A flat sheet is left out whole by its subtrees: no windows are asked.
+  const CollisionMesh flat = sheet(40);
+  candidates.update({&flat}, false, 0.5 * kReach);
+  EXPECT_EQ(candidates.windows(0), nullptr);
+}
+
 TEST(UnfoldedWindows, NoPairWithinTheReachIsLeftOutOfWrinkledAndFoldedSheets) {
   // Seeded wrinkles (waves 2 to 6 cm long, 1 to 5 mm high) and, every other run, a fold of
   // radius 1.5 to 4 mm along a tilted line: every pair within the reach that is not a rest
