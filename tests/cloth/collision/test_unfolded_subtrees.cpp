@@ -36,6 +36,19 @@ bool any_flagged(const CollisionMesh& m) {
   return std::any_of(f.begin(), f.end(), [](std::uint8_t x) { return x != 0; });
 }
 
+/// A seeded family of deformed sheets: how many runs leave some subtree out, and how many
+/// close pairs they hold (else a test of them shows nothing).
+struct Runs {
+  int flagged = 0;
+  int close_pairs = 0;
+  /// Checks sheet `m` at rest (x1 = x0) against every pair, and counts it.
+  void check(CollisionMesh& m) {
+    m.x1 = m.x0;
+    flagged += any_flagged(m);
+    close_pairs += expect_every_close_pair_found(m);
+  }
+};
+
 }  // namespace
 
 TEST(UnfoldedSubtrees, AFlatSheetMovedRigidlyAndStretchedIsOneSubtree) {
@@ -103,7 +116,7 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
   // every pair within the reach that is not a rest neighbour is still a candidate (tested against
   // every pair of the mesh).
   Uniform uniform{2024u};
-  int flagged_runs = 0, close_pairs = 0;
+  Runs runs;
   for (int run = 0; run < 8; ++run) {
     CollisionMesh m = sheet();
     const double amplitude = 0.3e-3 * (1 + run);
@@ -127,13 +140,10 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutOfCrumpledSheets) {
       for (int v = 0; v < m.x0.rows(); ++v)
         if (m.x0(v, 0) > 0.02) m.x0.row(v) << 0.04 - m.x0(v, 0), m.x0(v, 1), 2e-3 - m.x0(v, 2);
     }
-    m.x1 = m.x0;
-    flagged_runs += any_flagged(m);
-    close_pairs += expect_every_close_pair_found(m);
+    runs.check(m);
   }
-  // The runs leave out some subtrees and hold pairs to find (else the test shows nothing).
-  EXPECT_GE(flagged_runs, 4);
-  EXPECT_GT(close_pairs, 1000);
+  EXPECT_GE(runs.flagged, 4);
+  EXPECT_GT(runs.close_pairs, 1000);
 }
 
 TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPlane) {
@@ -142,7 +152,7 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPla
   // d apart at rest across a squeezed stretch come within d − 2A·sin(kd/2), 3.3 mm for 8 mm at
   // A = 2.5 mm. A subtree over whole waves keeps F ≈ 1 and misses their ends by about A either
   // way; subtrees within half a wave fit closely.
-  int close_pairs = 0, flagged_runs = 0;
+  Runs runs;
   for (int run = 0; run < 8; ++run) {
     CollisionMesh m = sheet();
     const double amplitude = 1.5e-3 + 0.18e-3 * run, length = 18e-3 + 3e-3 * (run % 3);
@@ -153,12 +163,10 @@ TEST(UnfoldedSubtrees, NoPairWithinTheReachIsLeftOutWhereTheSheetIsSqueezedInPla
       const Vec3 u = m.rest.row(v).transpose();
       m.x0.row(v) = (u - amplitude * std::sin(k * u.dot(n) + phase) * n).transpose();
     }
-    m.x1 = m.x0;
-    flagged_runs += any_flagged(m);
-    close_pairs += expect_every_close_pair_found(m);
+    runs.check(m);
   }
-  EXPECT_GE(flagged_runs, 4);
-  EXPECT_GT(close_pairs, 100);
+  EXPECT_GE(runs.flagged, 4);
+  EXPECT_GT(runs.close_pairs, 100);
 }
 
 TEST(UnfoldedSubtrees, TheSweptSearchKeepsEveryPairThatCollidesOverTheStep) {
