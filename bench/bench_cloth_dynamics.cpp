@@ -5,6 +5,8 @@
 ///   BM_ClothSolve     the linear solve only, warm-started from the previous step's Δv, by the
 ///                     model's default (sparse Cholesky) and, with a third argument 1, by the
 ///                     block-Jacobi PCG (LinearSolver::pcg);
+///   BM_ClothSubstitution  the forward and back substitution of that solve alone, through the
+///                     factor of the step's matrix;
 ///   BM_ClothSolveIncompleteCholesky  the same solve by conjugate gradient preconditioned with
 ///                     Eigen's incomplete Cholesky (AMD order, its default fill and shift),
 ///                     recomputed for each step's matrix (included), warm-started alike, to the
@@ -26,6 +28,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -113,6 +116,23 @@ void BM_ClothSolve(benchmark::State& bench) {
     bench.counters["factor_nnz"] = static_cast<double>(factor.factor_nonzeros());
     bench.counters["parallel_share"] = factor.parallel_share();
   }
+  set_size_counters(bench, s.model);
+}
+
+void BM_ClothSubstitution(benchmark::State& bench) {
+  PinnedSheet s(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)));
+  cloth::DynamicsWorkspace& ws = s.state.scratch.get();
+  cloth::assemble_system(s.model, s.state, kStep, s.gravity, s.pins, ws);
+  const cloth::DynamicsReport r = cloth::solve_system(s.model, s.pins, ws);  // factorises
+  if (!r.ok) bench.SkipWithError(r.message.c_str());
+  const cloth::SparseCholesky& factor = ws.direct.cholesky;
+  std::vector<double> x(static_cast<std::size_t>(ws.rhs.size()));
+  for (auto _ : bench) {
+    std::copy(ws.rhs.begin(), ws.rhs.end(), x.begin());
+    factor.solve_in_place(x);
+    benchmark::DoNotOptimize(x.data());
+  }
+  bench.counters["factor_nnz"] = static_cast<double>(factor.factor_nonzeros());
   set_size_counters(bench, s.model);
 }
 
@@ -229,6 +249,7 @@ void solve_sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_ClothStep)->Apply(sizes);
 BENCHMARK(BM_ClothAssembly)->Apply(sizes);
 BENCHMARK(BM_ClothSolve)->Apply(solve_sizes);
+BENCHMARK(BM_ClothSubstitution)->Apply(sizes);
 BENCHMARK(BM_ClothSolveIncompleteCholesky)
     ->Arg(33)
     ->Arg(65)

@@ -29,6 +29,7 @@ class SparseCholesky {
   int factorize(std::span<const double> values);
 
   /// Solves A·x = b in place (`b` of size n holds x on return). Requires a successful factorize.
+  /// The solves run on the factorisation's threads, bitwise the same for any thread count.
   void solve_in_place(std::span<double> b) const;
 
   /// The solve in two halves around the last `tail` unknowns, whose values another problem may
@@ -86,10 +87,26 @@ class SparseCholesky {
   std::vector<Entry> m_entries;            // A's values, grouped by supernode
   std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
   std::vector<double> m_stack;
-  std::vector<std::vector<double>> m_front;         // per thread: the update matrix being built
-  std::vector<int> m_failure;                       // per thread: a failed pivot's column, or −1
-  std::unique_ptr<WorkerPool> m_pool;               // none for one thread
-  mutable std::vector<double> m_gather, m_product;  // solve scratch
+  std::vector<std::vector<double>> m_front;  // per thread: the update matrix being built
+  std::vector<int> m_failure;                // per thread: a failed pivot's column, or −1
+  std::unique_ptr<WorkerPool> m_pool;        // none for one thread
+
+  // Solves on the threads (large factors only): task t's supernodes in column order (m_solve_order[t]); whether a
+  // supernode is in the top; per subtree supernode, its updates of rows in the top, kept in
+  // m_deferred[m_deferred_start[s] ..] by the forward solve until the top's turn.
+  bool m_threaded_solves{};
+  std::vector<std::vector<int>> m_solve_order;
+  std::vector<char> m_in_top;
+  std::vector<std::size_t> m_deferred_start;
+  mutable std::vector<double> m_deferred;
+  mutable std::vector<std::vector<double>> m_gather, m_product;  // per thread: solve scratch
+  /// The solves' schedule (above) from the factorisation's.
+  void schedule_solves(const std::vector<char>& in_top);
+  /// Forward substitution through supernode s; its updates of the top's rows go to `deferred`
+  /// when given.
+  void forward_front(int s, double* x, double* product, double* deferred) const;
+  /// Back substitution through supernode s's columns before `lead`.
+  void backward_front(int s, double* x, int lead, double* gather) const;
 };
 
 }  // namespace dexcloth::cloth

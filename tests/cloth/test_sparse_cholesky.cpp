@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <utility>
 #include <random>
 #include <vector>
 
@@ -140,4 +143,115 @@ TEST(SparseCholesky, KeepsTheGivenOrderOfTheUnknowns) {
   Eigen::MatrixXd L22;
   chol.trailing_factor(n, L22);
   EXPECT_LT((L22 * L22.transpose() - A).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+namespace {
+
+/// Appends the cells of the k×k grid's rectangle [x0, x1)×[y0, y1) in nested-dissection order:
+/// the two halves across the longer side, then the line between them.
+void dissect(int k, int x0, int x1, int y0, int y1, std::vector<int>& order) {
+  if ((x1 - x0) * (y1 - y0) <= 6 || x1 - x0 < 3 || y1 - y0 < 3) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) order.push_back(y * k + x);
+    return;
+  }
+  if (x1 - x0 >= y1 - y0) {
+    const int m = (x0 + x1) / 2;
+    dissect(k, x0, m, y0, y1, order);
+    dissect(k, m + 1, x1, y0, y1, order);
+    dissect(k, m, m + 1, y0, y1, order);
+  } else {
+    const int m = (y0 + y1) / 2;
+    dissect(k, x0, x1, y0, m, order);
+    dissect(k, x0, x1, m + 1, y1, order);
+    dissect(k, x0, x1, m, m + 1, order);
+  }
+}
+
+}  // namespace
+
+TEST(SparseCholesky, SolvesOnThreadsAreBitwiseTheSameAsOnOne) {
+  // A 110×110 grid's 9-point stiffness (plus random diagonal) in nested-dissection order, large
+  // enough for the threaded solves: on two and three threads the halves go to the threads and
+  // the separators to the top, whose rows the forward solve updates late. The full solve and
+  // the split solve around a tail of 40 unknowns must agree bitwise with one thread's and
+  // solve the system.
+  const int k = 110, n = k * k, tail = 40;
+  std::vector<int> order;
+  dissect(k, 0, k, 0, k, order);
+  ASSERT_EQ(static_cast<int>(order.size()), n);
+  std::vector<int> position(static_cast<std::size_t>(n));
+  for (int p = 0; p < n; ++p)
+    position[static_cast<std::size_t>(order[static_cast<std::size_t>(p)])] = p;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  // A by columns (upper triangle kept for the factorisation), off-diagonal entries in (−1, −½].
+  std::vector<std::vector<std::pair<int, double>>> column(static_cast<std::size_t>(n));
+  std::vector<double> diagonal(static_cast<std::size_t>(n), 0.0);
+  for (int y = 0; y < k; ++y)
+    for (int x = 0; x < k; ++x)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int i = position[static_cast<std::size_t>(y * k + x)];
+          if (x + dx < 0 || x + dx >= k || y + dy < 0 || y + dy >= k || (dx == 0 && dy == 0))
+            continue;
+          const int j = position[static_cast<std::size_t>((y + dy) * k + x + dx)];
+          if (i > j) continue;  // each pair once
+          const double a = -0.5 - 0.5 * uni(rng);
+          column[static_cast<std::size_t>(j)].emplace_back(i, a);
+          column[static_cast<std::size_t>(i)].emplace_back(j, a);
+          diagonal[static_cast<std::size_t>(i)] -= a;
+          diagonal[static_cast<std::size_t>(j)] -= a;
+        }
+  Upper u;
+  for (int j = 0; j < n; ++j) {
+    for (const auto& [i, a] : column[static_cast<std::size_t>(j)])
+      if (i < j) {
+        u.row.push_back(i);
+        u.value.push_back(a);
+      }
+    diagonal[static_cast<std::size_t>(j)] += uni(rng);
+    u.row.push_back(j);
+    u.value.push_back(diagonal[static_cast<std::size_t>(j)]);
+    u.col_start.push_back(static_cast<int>(u.row.size()));
+  }
+  std::vector<double> b(static_cast<std::size_t>(n));
+  for (double& v : b) v = uni(rng) - 0.5;
+  // ‖A·x − b‖ / ‖b‖.
+  const auto residual = [&](const std::vector<double>& x) {
+    double r2 = 0.0, b2 = 0.0;
+    for (int j = 0; j < n; ++j) {
+      double ax = diagonal[static_cast<std::size_t>(j)] * x[static_cast<std::size_t>(j)];
+      for (const auto& [i, a] : column[static_cast<std::size_t>(j)])
+        ax += a * x[static_cast<std::size_t>(i)];
+      r2 += (ax - b[static_cast<std::size_t>(j)]) * (ax - b[static_cast<std::size_t>(j)]);
+      b2 += b[static_cast<std::size_t>(j)] * b[static_cast<std::size_t>(j)];
+    }
+    return std::sqrt(r2 / b2);
+  };
+
+  std::vector<double> one_full, one_split;
+  for (int threads : {1, 2, 3}) {
+    SparseCholesky chol;
+    chol.analyze(n, u.col_start, u.row, threads);
+    ASSERT_GT(chol.factor_nonzeros(), 400'000u);  // solved on the threads
+    if (threads > 1) EXPECT_LT(chol.parallel_share(), 1.0);  // a top, solved after them
+    ASSERT_EQ(chol.factorize(u.value), -1);
+    std::vector<double> full = b;
+    chol.solve_in_place(full);
+    // The split solve, with the tail set to the full solve's.
+    std::vector<double> split = b;
+    chol.forward_in_place(split);
+    std::copy(full.end() - tail, full.end(), split.end() - tail);
+    chol.backward_in_place(split, tail);
+    if (threads == 1) {
+      one_full = full;
+      one_split = split;
+      EXPECT_LT(residual(full), 1e-12);
+      EXPECT_LT(residual(split), 1e-12);
+    } else {
+      EXPECT_EQ(full, one_full) << threads << " threads";
+      EXPECT_EQ(split, one_split) << threads << " threads";
+    }
+  }
 }
