@@ -83,14 +83,22 @@ const std::vector<std::string> kLowGapStart{
 
 }  // namespace
 
-TEST(PinchMove, ThePadsSqueezeTheSheetAtEveryStepFromALowGapStart) {
+TEST(PinchMove, ThePadsKeepSqueezingAndHoldTheSheetFromALowGapStart) {
   // In this start, before patches went to DART without the rotation fitted to their cloth, the
   // fit tilted the pinched patch at ~1 rad/s, so it drew away from both pads at their contacts
   // 12 mm apart and DART's squeeze fell to 0.001–0.005 N at 6 steps after the release (and 0.004
-  // N on average while the pads closed, 1.3–1.4 s); the sheet slid out during the carry. Now the
-  // squeeze stays at 0.29 N or more from 1.42 s to the end of the lift (2.0 s), 0.71 N on average.
-  // Required: at least half of N* = m g / (2 μ), the least squeeze that holds the sheet, at every
-  // step from 20 ms after the release.
+  // N on average while the pads closed, 1.3–1.4 s); the sheet slid out during the carry.
+  // Required from 20 ms after the release to the end of the lift (2.0 s): over every 40 ms (8
+  // steps) the squeeze averages at least half of N* = m g / (2 μ), the least squeeze that holds
+  // the sheet, and the pinched vertex ends within 3 cm of the pads' middle. Single steps may dip
+  // to a few mN: the pinched patch is rebuilt every step, and while the pinched region splits
+  // into clusters the pads' facing gap jumps between 8.6 and 10.5 mm against the 10.4 mm patch.
+  // Whether a step dips depends on rounding alone. By OpenBLAS kernel (OPENBLAS_CORETYPE): the
+  // least one-step squeeze over the 117 steps is 0.148 N with this machine's default and 0.002
+  // N with Cooperlake, SkylakeX or Sandybridge; the least 40 ms mean 0.14–0.25 N, the mean over
+  // the lift 0.44–0.58 N; the pinched vertex ends 8.2 mm (default), 17.8 mm (Cooperlake) and
+  // 9.7 mm (Sandybridge) from the pads' middle. With the joints' gains cut to 15 % the sheet
+  // drops: 0 N, 21 cm from the pads.
   namespace rigid = dexcloth::rigid;
   const dexcloth::scene::SceneSpec spec = dexcloth::scene::load_scene(
       (source_dir() / "scenes" / "pinch_move.json").string(), kLowGapStart);
@@ -109,7 +117,9 @@ TEST(PinchMove, ThePadsSqueezeTheSheetAtEveryStepFromALowGapStart) {
   const double mu = dexcloth::collision::pair_friction(data.meshes[0], data.meshes[thumb_mesh]);
   const double n_star = data.meshes[0].mass.sum() * -spec.gravity.z() / (2.0 * mu);
   ASSERT_NEAR(n_star, 0.13, 0.005);
-  double least = 1e9, least_at = 0.0;
+  constexpr std::size_t kWindow = 8;   // steps (40 ms)
+  std::vector<double> squeezes;        // per step from 1.42 s
+  double least = 1e9, least_at = 0.0;  // the least 40 ms mean, and when that window ended
   while (data.time < 2.0 - 1e-9) {
     dexcloth::coupling::step(scene.model, data);
     ASSERT_FALSE(data.lost) << "state lost at step " << data.step;
@@ -117,10 +127,33 @@ TEST(PinchMove, ThePadsSqueezeTheSheetAtEveryStepFromALowGapStart) {
     double squeeze = 0.0;  // the patches' normal force on the thumb pad [N]
     for (const rigid::ContactPoint& c : world.contacts(thumb))
       if (std::find(patches.begin(), patches.end(), c.other) != patches.end()) squeeze += c.f_n;
-    if (squeeze < least) {
-      least = squeeze;
+    squeezes.push_back(squeeze);
+    if (squeezes.size() < kWindow) continue;
+    double mean = 0.0;
+    for (std::size_t k = squeezes.size() - kWindow; k < squeezes.size(); ++k) mean += squeezes[k];
+    mean /= kWindow;
+    if (mean < least) {
+      least = mean;
       least_at = data.time;
     }
   }
-  EXPECT_GT(least, 0.5 * n_star) << "the squeeze fell to " << least << " N at t = " << least_at;
+  ASSERT_GE(squeezes.size(), kWindow);
+  EXPECT_GT(least, 0.5 * n_star) << "the 40 ms mean squeeze fell to " << least
+                                 << " N in the window ending at t = " << least_at;
+  // Still held: the pinched vertex near the middle of the pads.
+  const auto probe = [&](const std::string& name) {
+    for (const dexcloth::scene::CompiledProbe& p : scene.probes)
+      if (p.name == name) return p;
+    ADD_FAILURE() << "no probe " << name;
+    return dexcloth::scene::CompiledProbe{};
+  };
+  const auto pad = [&](const std::string& name) {
+    const dexcloth::scene::CompiledProbe p = probe(name);
+    return dexcloth::Vec3(world.pose_W(world.body(p.body)) * p.point);
+  };
+  const dexcloth::scene::CompiledProbe pinched = probe("pinched");
+  ASSERT_GE(pinched.vertex, 0);
+  const dexcloth::Vec3 x =
+      data.cloths[static_cast<std::size_t>(pinched.cloth)].x.row(pinched.vertex).transpose();
+  EXPECT_LT((x - 0.5 * (pad("thumb_tip") + pad("index_pad"))).norm(), 0.03);
 }
