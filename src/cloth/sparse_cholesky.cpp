@@ -548,7 +548,8 @@ void SparseCholesky::backward_front(int s, double* x, int lead, double* gather) 
   if (known > 0) {
     const int* rows = m_rows.data() + m_row_start[at(s)] + u;
     for (int r = 0; r < known; ++r) gather[r] = x[rows[r]];
-    xu.noalias() -= L.bottomRows(known).transpose() * Eigen::Map<const Eigen::VectorXd>(gather, known);
+    xu.noalias() -=
+        L.bottomRows(known).transpose() * Eigen::Map<const Eigen::VectorXd>(gather, known);
   }
   L.topRows(u).triangularView<Eigen::Lower>().transpose().solveInPlace(xu);
 }

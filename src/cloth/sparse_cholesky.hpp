@@ -91,9 +91,10 @@ class SparseCholesky {
   std::vector<int> m_failure;                // per thread: a failed pivot's column, or −1
   std::unique_ptr<WorkerPool> m_pool;        // none for one thread
 
-  // Solves on the threads (large factors only): task t's supernodes in column order (m_solve_order[t]); whether a
-  // supernode is in the top; per subtree supernode, its updates of rows in the top, kept in
-  // m_deferred[m_deferred_start[s] ..] by the forward solve until the top's turn.
+  // Solves on the threads (large factors only): task t's supernodes in column order
+  // (m_solve_order[t]); whether a supernode is in the top; per subtree supernode, its updates of
+  // rows in the top, kept in m_deferred[m_deferred_start[s] ..] by the forward solve until the
+  // top's turn.
   bool m_threaded_solves{};
   std::vector<std::vector<int>> m_solve_order;
   std::vector<char> m_in_top;

@@ -4,8 +4,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "cloth/sparse_cholesky.hpp"
@@ -234,7 +234,7 @@ TEST(SparseCholesky, SolvesOnThreadsAreBitwiseTheSameAsOnOne) {
   for (int threads : {1, 2, 3}) {
     SparseCholesky chol;
     chol.analyze(n, u.col_start, u.row, threads);
-    ASSERT_GT(chol.factor_nonzeros(), 400'000u);  // solved on the threads
+    ASSERT_GT(chol.factor_nonzeros(), 400'000u);             // solved on the threads
     if (threads > 1) EXPECT_LT(chol.parallel_share(), 1.0);  // a top, solved after them
     ASSERT_EQ(chol.factorize(u.value), -1);
     std::vector<double> full = b;
