@@ -49,12 +49,17 @@ TEST(CurtainHand, WithoutFrictionThePadsSlideOffTheEdge) {
   EXPECT_LT(std::abs(slid(s, "ring")), 0.02);
 }
 
-TEST(CurtainHand, TheKinematicBaselineLosesTheCurtain) {
+TEST(CurtainHand, TheKinematicBaselineLetsTheCurtainSlipInThePinch) {
   // ARCSim-style coupling: the hand is a kinematic obstacle and friction comes from the
-  // repulsion, capped per step; the curtain slips out of the pinch during the pull (measured:
-  // 13 cm from the pads by 1.8 s).
-  const auto s = run_scene("curtain_hand", "--coupling kinematic --duration 1.8");
+  // repulsion, capped per step; the pinched edge slips between the pads during the pull while
+  // the repulsion still drags the curtain along. How far it slips before it catches again
+  // depends on rounding alone: by OpenBLAS kernel (OPENBLAS_CORETYPE), at most 5.9 cm from a pad
+  // with this machine's default, 11.8 cm with Cooperlake or SkylakeX, 14.8 cm with Sandybridge
+  // (the pinched vertex carried 21.6–25.1 cm along the rod); at 1.8 s, where this test once
+  // stopped, 4.6–11.9 cm. Required: beyond 4 cm, against the 1.5 cm the pads keep in the
+  // paper's coupling (TheHandSlidesTheCurtainAlongItsRodByAKeyPinch).
+  const auto s = run_scene("curtain_hand", "--coupling kinematic");
   EXPECT_EQ(s["nan"], false);
   EXPECT_EQ(s["patches_max"], 0);
-  EXPECT_GT(carry(s, "pinched", kClosed).farthest, 0.05);
+  EXPECT_GT(carry(s, "pinched", kClosed).farthest, 0.04);
 }
