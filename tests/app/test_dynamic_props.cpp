@@ -17,11 +17,14 @@ nlohmann::json run_box(const std::string& name, const std::string& args = "") {
 
 TEST(DynamicProps, ABoxOnAClothOnATableRestsOnTheCloth) {
   // Box half-height 25 mm, cloth at 4 mm: resting on the cloth's repulsion layer puts the box
-  // centre near 35 mm; on the bare table it would be at 25 mm, through the cloth.
+  // centre near 35 mm; on the bare table it would be at 25 mm, through the cloth. Where it
+  // settles varies with rounding alone: by OpenBLAS kernel (OPENBLAS_CORETYPE) its lowest is
+  // 33.4 mm with this machine's default and with Sandybridge, 32.97 mm with Cooperlake or
+  // SkylakeX (at 0.76 s); its last 33.4–34.9 mm. Required: above 31 mm, 6 mm clear of the table.
   const auto s = run_box("box_on_cloth");
   expect_intact(s);
   for (const auto& row : s["probes"]["box"]) {
-    EXPECT_GT(row[3].get<double>(), 0.033) << "t " << row[0];
+    EXPECT_GT(row[3].get<double>(), 0.031) << "t " << row[0];
     EXPECT_LT(row[3].get<double>(), 0.037) << "t " << row[0];
     EXPECT_NEAR(row[1].get<double>(), 0.0, 1e-3);
     EXPECT_NEAR(row[2].get<double>(), 0.0, 1e-3);
