@@ -149,7 +149,7 @@ TEST(PinchMove, ThePadsKeepSqueezingAndHoldTheSheetFromALowGapStart) {
   };
   const auto pad = [&](const std::string& name) {
     const dexcloth::scene::CompiledProbe p = probe(name);
-    return dexcloth::Vec3(world.pose_W(world.body(p.body)) * p.point);
+    return world.probe_W(p.body, p.point);
   };
   const dexcloth::scene::CompiledProbe pinched = probe("pinched");
   ASSERT_GE(pinched.vertex, 0);
