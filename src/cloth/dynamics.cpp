@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "cloth/bending.hpp"
 #include "cloth/dynamics_workspace.hpp"
@@ -114,10 +115,18 @@ void scatter(const std::array<int, N * N>& block_of, const std::array<int, N>& v
   }
 }
 
+/// What an assembly reads: positions, velocities, external forces, h and gravity.
+struct AssemblyView {
+  const Points &x, &v, &f_ext;
+  double h;
+  const Vec3& gravity;
+};
+
 /// The assembly of A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) (assemble) that
 /// `part` owns. Each entry gets its terms in the serial assembly's order: faces, hinges, mass.
-void assemble_part(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
-                   const AssemblyPart& part, DynamicsWorkspace& ws) {
+void assemble_part(const ClothModel& model, const AssemblyView& in, const AssemblyPart& part,
+                   DynamicsWorkspace& ws) {
+  const double h = in.h;
   const double beta = model.material.damping;
   const double c_stiff = h * h + h * beta;
   const double c_damp = h * (h + beta);
@@ -130,11 +139,11 @@ void assemble_part(const ClothModel& model, const ClothState& state, double h, c
   for (int f : part.faces) {
     const std::array<int, 3> vs = {model.faces(f, 0), model.faces(f, 1), model.faces(f, 2)};
     stretch_gradient_hessian_psd(
-        state.x.row(vs[0]).transpose(), state.x.row(vs[1]).transpose(),
-        state.x.row(vs[2]).transpose(), model.Dm_inv[static_cast<std::size_t>(f)],
-        model.rest_area[static_cast<std::size_t>(f)], model.stretch, g9, H9);
-    scatter<3>(model.pattern.face_blocks[static_cast<std::size_t>(f)], vs, g9, H9, state.v, c_stiff,
-               h, c_damp, part, ws);
+        in.x.row(vs[0]).transpose(), in.x.row(vs[1]).transpose(), in.x.row(vs[2]).transpose(),
+        model.Dm_inv[static_cast<std::size_t>(f)], model.rest_area[static_cast<std::size_t>(f)],
+        model.stretch, g9, H9);
+    scatter<3>(model.pattern.face_blocks[static_cast<std::size_t>(f)], vs, g9, H9, in.v, c_stiff, h,
+               c_damp, part, ws);
   }
 
   // Bending, per hinge.
@@ -143,11 +152,10 @@ void assemble_part(const ClothModel& model, const ClothState& state, double h, c
   if (model.bending_k > 0.0) {
     for (int e : part.hinges) {
       const Hinge& hg = model.hinges[static_cast<std::size_t>(e)];
-      bending_gradient_hessian_psd(
-          state.x.row(hg.v[0]).transpose(), state.x.row(hg.v[1]).transpose(),
-          state.x.row(hg.v[2]).transpose(), state.x.row(hg.v[3]).transpose(), hg.rest_angle,
-          hg.weight, model.bending_k, g12, H12);
-      scatter<4>(model.pattern.hinge_blocks[static_cast<std::size_t>(e)], hg.v, g12, H12, state.v,
+      bending_gradient_hessian_psd(in.x.row(hg.v[0]).transpose(), in.x.row(hg.v[1]).transpose(),
+                                   in.x.row(hg.v[2]).transpose(), in.x.row(hg.v[3]).transpose(),
+                                   hg.rest_angle, hg.weight, model.bending_k, g12, H12);
+      scatter<4>(model.pattern.hinge_blocks[static_cast<std::size_t>(e)], hg.v, g12, H12, in.v,
                  c_stiff, h, c_damp, part, ws);
     }
   }
@@ -158,28 +166,32 @@ void assemble_part(const ClothModel& model, const ClothState& state, double h, c
     ws.blocks[static_cast<std::size_t>(model.pattern.diagonal[static_cast<std::size_t>(i)])]
         .diagonal()
         .array() += m;
-    ws.rhs.segment<3>(3 * i) += h * (state.f_ext.row(i).transpose() + m * gravity);
+    ws.rhs.segment<3>(3 * i) += h * (in.f_ext.row(i).transpose() + m * in.gravity);
   }
 }
 
-// Cloths with fewer faces are assembled on one thread (waking workers costs more).
+// Cloths with fewer faces are assembled in one piece (waking workers costs more); larger ones
+// on several threads in kPiecesPerThread pieces a thread, which threads take as they come free
+// (so that a thread busy with other work for a while, as the coupling's rigid step, holds up
+// no other). Elements across two pieces are evaluated by both: more pieces cost more.
 constexpr int kParallelAssemblyFaces = 2000;
+constexpr int kPiecesPerThread = 2;
 
-/// Splits the assembly into `threads` parts of consecutive vertices with about as many blocks
-/// each (a block (i, j) belongs to its column j's part).
-void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws) {
-  DEXCLOTH_DEMAND(threads >= 1 && threads <= 64);
+}  // namespace
+
+void split_assembly(const ClothModel& model, int pieces, DynamicsWorkspace& ws) {
+  DEXCLOTH_DEMAND(pieces >= 1 && pieces <= 64);
   const SystemPattern& p = model.pattern;
   const int nv = model.num_vertices();
-  ws.assembly_parts.assign(static_cast<std::size_t>(threads), AssemblyPart{});
+  ws.assembly_parts.assign(static_cast<std::size_t>(pieces), AssemblyPart{});
   std::vector<int> part_of(static_cast<std::size_t>(nv));
   int v = 0;
-  for (int t = 0; t < threads; ++t) {
+  for (int t = 0; t < pieces; ++t) {
     AssemblyPart& part = ws.assembly_parts[static_cast<std::size_t>(t)];
     const auto blocks_before =
-        static_cast<int>(static_cast<long long>(p.num_blocks()) * (t + 1) / threads);
+        static_cast<int>(static_cast<long long>(p.num_blocks()) * (t + 1) / pieces);
     part.first_vertex = v;
-    while (v < nv && (t + 1 == threads || p.col_start[static_cast<std::size_t>(v)] < blocks_before))
+    while (v < nv && (t + 1 == pieces || p.col_start[static_cast<std::size_t>(v)] < blocks_before))
       part_of[static_cast<std::size_t>(v++)] = t;
     part.end_vertex = v;
     part.first_block = p.col_start[static_cast<std::size_t>(part.first_vertex)];
@@ -188,9 +200,9 @@ void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws)
   // Each element goes to every part owning one of its vertices, in element order.
   const auto add = [&](std::vector<int> AssemblyPart::*list, int element,
                        std::span<const int> verts) {
-    std::uint64_t parts = 0;  // bit t: part t owns a vertex (threads ≤ 64)
+    std::uint64_t parts = 0;  // bit t: part t owns a vertex (pieces ≤ 64)
     for (int i : verts) parts |= std::uint64_t{1} << part_of[static_cast<std::size_t>(i)];
-    for (int t = 0; t < threads; ++t)
+    for (int t = 0; t < pieces; ++t)
       if (parts & (std::uint64_t{1} << t))
         (ws.assembly_parts[static_cast<std::size_t>(t)].*list).push_back(element);
   };
@@ -202,24 +214,58 @@ void split_assembly(const ClothModel& model, int threads, DynamicsWorkspace& ws)
     add(&AssemblyPart::hinges, static_cast<int>(e), model.hinges[e].v);
 }
 
-/// Assembles A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) into the workspace, on the
-/// model's threads for a large cloth. Every entry sums the same terms in the same order on any
-/// number of threads, so the system is bitwise the same.
+namespace {
+
+/// Splits the assembly into its pieces unless split already; returns their number.
+int assembly_pieces(const ClothModel& model, DynamicsWorkspace& ws) {
+  if (ws.assembly_parts.empty())
+    split_assembly(model,
+                   model.faces.rows() >= kParallelAssemblyFaces && model.solver.threads > 1
+                       ? std::min(64, kPiecesPerThread * model.solver.threads)
+                       : 1,
+                   ws);
+  return static_cast<int>(ws.assembly_parts.size());
+}
+
+/// Keeps the inputs of an assembly of `state` (bitwise copies).
+void keep_inputs(const ClothState& state, double h, const Vec3& gravity, AssemblyInputs& in) {
+  in.x = state.x;
+  in.v = state.v;
+  in.f_ext = state.f_ext;
+  in.h = h;
+  in.gravity = gravity;
+}
+
+bool same_bits(const Points& a, const Points& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+/// Whether `in` holds bitwise the inputs `state`, h and gravity.
+bool same_inputs(const AssemblyInputs& in, const ClothState& state, double h, const Vec3& gravity) {
+  return same_bits(in.x, state.x) && same_bits(in.v, state.v) && same_bits(in.f_ext, state.f_ext) &&
+         std::memcmp(&in.h, &h, sizeof h) == 0 &&
+         std::memcmp(in.gravity.data(), gravity.data(), sizeof(double) * 3) == 0;
+}
+
+/// Assembles A = M + (h² + hβ)K and b = h(f + f_ext + Mg − (h + β)Kv) into the workspace, its
+/// pieces on the model's threads for a large cloth, unless an assembly ahead (begin_assembly) of
+/// bitwise these inputs is complete. Every entry sums the same terms in the same order however
+/// the pieces are run, so the system is bitwise the same.
 void assemble(const ClothModel& model, const ClothState& state, double h, const Vec3& gravity,
               DynamicsWorkspace& ws) {
-  const int threads = model.faces.rows() >= kParallelAssemblyFaces ? model.solver.threads : 1;
-  if (static_cast<int>(ws.assembly_parts.size()) != threads) {
-    split_assembly(model, threads, ws);
-    ws.assembly_pool = threads > 1 ? std::make_unique<WorkerPool>(threads) : nullptr;
-  }
-  auto part = [&](int t) {
-    assemble_part(model, state, h, gravity, ws.assembly_parts[static_cast<std::size_t>(t)], ws);
-  };
-  if (ws.assembly_pool) {
-    ws.assembly_pool->run(part);
-  } else {
-    part(0);
-  }
+  const bool ahead =
+      std::find(ws.piece_done.begin(), ws.piece_done.end(), 0) == ws.piece_done.end() &&
+      !ws.piece_done.empty() && same_inputs(ws.assembly_inputs, state, h, gravity);
+  ws.piece_done.clear();  // an assembly ahead serves one solve
+  if (ahead) return;
+  const int pieces = assembly_pieces(model, ws);
+  const AssemblyView in{state.x, state.v, state.f_ext, h, gravity};
+  const int threads = pieces > 1 ? model.solver.threads : 1;
+  if (threads > 1 && (!ws.assembly_pool || ws.assembly_pool->threads() != threads))
+    ws.assembly_pool = std::make_unique<WorkerPool>(threads);
+  for_each_index(threads > 1 ? ws.assembly_pool.get() : nullptr, static_cast<std::size_t>(pieces),
+                 [&](std::size_t k) { assemble_part(model, in, ws.assembly_parts[k], ws); });
 }
 
 }  // namespace
@@ -397,6 +443,24 @@ void assemble_system(const ClothModel& model, const ClothState& state, double h,
   prepare(model, ws);
   assemble(model, state, h, gravity, ws);
   eliminate_constraints(model, state, constraints, ws);
+}
+
+int begin_assembly(const ClothModel& model, ClothState& state, double h, const Vec3& gravity) {
+  DynamicsWorkspace& ws = state.scratch.get();
+  prepare(model, ws);
+  const int pieces = assembly_pieces(model, ws);
+  keep_inputs(state, h, gravity, ws.assembly_inputs);
+  ws.piece_done.assign(static_cast<std::size_t>(pieces), 0);
+  return pieces;
+}
+
+void assemble_piece(const ClothModel& model, ClothState& state, int k) {
+  DynamicsWorkspace& ws = state.scratch.get();
+  DEXCLOTH_DEMAND(k >= 0 && static_cast<std::size_t>(k) < ws.piece_done.size());
+  const AssemblyInputs& kept = ws.assembly_inputs;
+  const AssemblyView in{kept.x, kept.v, kept.f_ext, kept.h, kept.gravity};
+  assemble_part(model, in, ws.assembly_parts[static_cast<std::size_t>(k)], ws);
+  ws.piece_done[static_cast<std::size_t>(k)] = 1;
 }
 
 DynamicsReport solve_system(const ClothModel& model,

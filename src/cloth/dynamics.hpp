@@ -102,6 +102,17 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
                                 std::span<const FrictionConstraint> friction,
                                 FrictionOutcome& outcome, const FrictionSettings& settings = {});
 
+/// The assembly of solve_velocities' system ahead of the solve, in pieces that may run beside
+/// other work (the coupling runs them beside the rigid step). begin_assembly keeps bitwise
+/// copies of state.x, state.v, state.f_ext, `h` and `gravity` and returns the number of pieces;
+/// assemble_piece(model, state, k) assembles piece k from those copies, each k once, on any
+/// threads in any order (none at the same time as another call on `state`). The next
+/// solve_velocities on `state` uses that system when every piece is done and its inputs are
+/// bitwise the kept ones, and assembles afresh otherwise: either way the system is bitwise the
+/// same.
+int begin_assembly(const ClothModel& model, ClothState& state, double h, const Vec3& gravity);
+void assemble_piece(const ClothModel& model, ClothState& state, int k);
+
 /// Moves the positions with the current velocities: x += h·v (`h` [s]).
 void advance_positions(ClothState& state, double h);
 

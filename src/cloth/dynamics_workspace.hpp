@@ -24,13 +24,21 @@ struct DirectSystem {
   SparseCholesky cholesky;
 };
 
-/// One thread's part of the assembly: the rows of the right-hand side of vertices
+/// One piece of the assembly: the rows of the right-hand side of vertices
 /// [first_vertex, end_vertex), the blocks of their columns [first_block, end_block), and the
 /// elements that touch those vertices (an element across two parts is evaluated by both).
 struct AssemblyPart {
   int first_vertex{}, end_vertex{};
   int first_block{}, end_block{};
   std::vector<int> faces, hinges;  ///< in increasing order, as the serial assembly visits them
+};
+
+/// The inputs an assembly was made from (bitwise copies), for the pieces of an assembly ahead
+/// (begin_assembly) and the solve's check that they still hold.
+struct AssemblyInputs {
+  Points x, v, f_ext;
+  double h{};
+  Vec3 gravity{Vec3::Zero()};
 };
 
 /// Buffers of solve_velocities (see dynamics.cpp). Sized for one model on the first step.
@@ -75,13 +83,21 @@ struct DynamicsWorkspace {
   Eigen::MatrixXd schur_Sxx, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
   Eigen::VectorXd schur_c, schur_cx, schur_zr, schur_tail;
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
-  // Assembly on several threads (none for one).
+  // Assembly in pieces, on several threads (no pool for one), or ahead of the solve.
   std::vector<AssemblyPart> assembly_parts;
   std::unique_ptr<WorkerPool> assembly_pool;
+  AssemblyInputs assembly_inputs;
+  std::vector<char> piece_done;  ///< per piece of an assembly ahead: assembled; empty: none
+
   // Iterative solver.
   bool pcg_ready{false};
   BlockPcg pcg;
 };
+
+/// Splits the assembly into `pieces` (1 to 64) pieces of consecutive vertices with about as many
+/// blocks each (a block (i, j) belongs to its column j's piece). Any split assembles bitwise the
+/// same system; the first assembly makes the default one.
+void split_assembly(const ClothModel& model, int pieces, DynamicsWorkspace& ws);
 
 /// Gathers the system's upper triangle in the vertex elimination `order` and analyses it for
 /// factorisations on `threads` threads.

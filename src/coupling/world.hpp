@@ -109,6 +109,7 @@ struct WorldData {
   std::vector<cloth::VelocityConstraint> scratch_constraints;
   std::vector<collision::CollisionMesh> meshes;  ///< cloths first, then rigid bodies
   std::vector<collision::CollisionMesh*> mesh_pointers;  ///< the same, as the routines take them
+  std::vector<std::pair<int, int>> assembly_pieces;      ///< (cloth, piece) assembled ahead
   collision::ClothContacts contacts;
   collision::ImpactZoneSolver impact_zones;
   InterfaceScratch interface;
