@@ -74,8 +74,6 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
   double friction_seconds = 0.0;
   const bool bai_liu = model.mode == CouplingMode::bai_liu;
   InterfaceScratch& s = data.interface;
-  if (bai_liu)
-    friction_constraints(static_cast<int>(model.cloths.size()), model.dt, kCoplanarDeg, data);
   s.friction_state.resize(model.cloths.size());
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
     const ClothBody& body = model.cloths[c];
@@ -105,20 +103,12 @@ double cloth_dynamics(const WorldModel& model, WorldData& data) {
   return friction_seconds;
 }
 
-/// The step's motion of every collision mesh: cloth x → x + h·v̄ with handle vertices frozen,
-/// rigid bodies from the pose the cloth was last resolved against to x + h·v of the last rigid
-/// step.
+/// The step's motion of every collision mesh known before the cloth's dynamics: the cloths' start
+/// x0 = x, and the rigid bodies' whole motion, from the pose the cloth was last resolved against
+/// to x + h·v of the last rigid step.
 void load_collision_meshes(const WorldModel& model, WorldData& data) {
   const double h = model.dt;
-  for (std::size_t c = 0; c < model.cloths.size(); ++c) {
-    collision::CollisionMesh& mesh = data.meshes[c];
-    mesh.x0 = data.cloths[c].x;
-    mesh.x1 = data.cloths[c].x + h * data.cloths[c].v;
-    std::fill(mesh.frozen.begin(), mesh.frozen.end(), std::uint8_t{0});
-    for (const Handle& handle : model.cloths[c].handles)
-      if (data.time + h <= handle.release + 1e-12)
-        for (int i : handle.vertices) mesh.frozen[static_cast<std::size_t>(i)] = 1;
-  }
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) data.meshes[c].x0 = data.cloths[c].x;
   for (std::size_t m = 0; m < data.rigid.meshes.size(); ++m) {
     collision::CollisionMesh& mesh = data.meshes[model.cloths.size() + m];
     const rigid::ObstacleMesh& body = data.rigid.meshes[m];
@@ -139,6 +129,61 @@ std::vector<collision::CollisionMesh*>& mesh_list(WorldData& data) {
   data.mesh_pointers.clear();
   for (collision::CollisionMesh& m : data.meshes) data.mesh_pointers.push_back(&m);
   return data.mesh_pointers;
+}
+
+/// The cloths' end of the step: x1 = x + h·v̄, with handle vertices frozen.
+void load_cloth_motion(const WorldModel& model, WorldData& data) {
+  const double h = model.dt;
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) {
+    collision::CollisionMesh& mesh = data.meshes[c];
+    mesh.x1 = data.cloths[c].x + h * data.cloths[c].v;
+    std::fill(mesh.frozen.begin(), mesh.frozen.end(), std::uint8_t{0});
+    for (const Handle& handle : model.cloths[c].handles)
+      if (data.time + h <= handle.release + 1e-12)
+        for (int i : handle.vertices) mesh.frozen[static_cast<std::size_t>(i)] = 1;
+  }
+}
+
+/// cloth_dynamics and the proximity search of ClothCollisionDetection, which reads only the
+/// meshes' start positions (x0), not v̄. On several threads the search runs beside the dynamics,
+/// on one thread while the calling thread solves the cloths (the solver has threads of its
+/// own), unless it took longer than the dynamics on all threads at the last step; then after
+/// them, on all threads. Either way each finds what it would alone, so the step is bitwise the
+/// same. Returns cloth_dynamics' friction seconds.
+double dynamics_and_proximities(const WorldModel& model, WorldData& data, WorkerPool* pool) {
+  const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
+  const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());
+  collision::ClothContacts& contacts = data.contacts;
+  const auto search = [&] {
+    collision::find_proximities(view, model.thickness, contacts.candidates, contacts.proximities,
+                                contacts.proximity_scratch);
+  };
+  double friction_seconds = 0.0, dynamics_seconds = 0.0, search_seconds = 0.0;
+  const bool beside = pool != nullptr && data.proximities_beside_dynamics;
+  if (beside) {
+    auto task = [&](int t) {
+      Stopwatch clock;
+      if (t == 0) {
+        friction_seconds = cloth_dynamics(model, data);
+        dynamics_seconds = clock.lap();
+      } else if (t == 1) {
+        search();
+        search_seconds = clock.lap() / pool->threads();  // its share on all threads
+      }
+    };
+    contacts.candidates.set_pool(nullptr);
+    pool->run(task);
+    contacts.candidates.set_pool(pool);
+  } else {
+    Stopwatch clock;
+    friction_seconds = cloth_dynamics(model, data);
+    dynamics_seconds = clock.lap();
+    search();
+    search_seconds = clock.lap();
+  }
+  // Beside: max(dynamics, threads · search); after: dynamics + search.
+  data.proximities_beside_dynamics = search_seconds < dynamics_seconds;
+  return friction_seconds;
 }
 
 /// StrainLimit (Algorithm 1): per cloth with limits, frozen vertices fixed.
@@ -249,16 +294,19 @@ void step(const WorldModel& model, WorldData& data) {
   const bool bai_liu = model.mode == CouplingMode::bai_liu;
   const double h = model.dt;
 
-  // v̄ = ClothDynamics(x, v), with the friction of persisting contacts (paper §4.2).
-  const double friction_seconds = cloth_dynamics(model, data);
-  // Vr, Vc = ClothCollisionDetection(x, v̄, q, q̇): proximity and repulsion; in the kinematic
-  // baseline the repulsion pass also applies ARCSim's capped friction.
+  // v̄ = ClothDynamics(x, v), with the friction of persisting contacts (paper §4.2); beside it
+  // the proximities of Vr, Vc = ClothCollisionDetection(x, v̄, q, q̇), found at x and q.
+  if (bai_liu) friction_constraints(cloths, h, kCoplanarDeg, data);
   load_collision_meshes(model, data);
+  const double friction_seconds = dynamics_and_proximities(model, data, pool);
+  // The repulsion on v̄; in the kinematic baseline it also applies ARCSim's capped friction.
+  load_cloth_motion(model, data);
   collision::RepulsionOptions repulsion;
   repulsion.thickness = model.thickness;
   repulsion.dt = h;
   repulsion.friction = !bai_liu;
-  collision::detect_cloth_contacts(mesh_list(data), repulsion, data.contacts);
+  collision::apply_repulsion(mesh_list(data), data.contacts.proximities, repulsion,
+                             data.contacts.contacts);
   data.timings.cloth += clock.lap() - friction_seconds;
   data.timings.interface += friction_seconds;
 

@@ -121,6 +121,7 @@ struct WorldData {
                                                           ///< cluster's cloth
   Points normals;                       ///< vertex normals scratch
   std::unique_ptr<WorkerPool> pool;     ///< the step's threads when WorldModel::threads > 1
+  bool proximities_beside_dynamics{true};  ///< the proximity search's place in the next step
 };
 
 /// Initial data: cloths at rest, time zero, the rigid world as built by the caller.
