@@ -71,16 +71,14 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
     }
     d.col_start.push_back(static_cast<int>(d.row.size()));
   }
-  d.values.assign(d.row.size(), 0.0);
   d.cholesky.analyze(n, d.col_start, d.row, threads);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
   DynamicsReport report;
   report.iterations = 1;
-  const double* const base = blocks.data()->data();
-  for (std::size_t k = 0; k < d.values.size(); ++k) d.values[k] = base[d.source[k]];
-  if (const int col = d.cholesky.factorize(d.values); col >= 0) {
+  const std::span<const double> base(blocks.data()->data(), 9 * blocks.size());
+  if (const int col = d.cholesky.factorize(base, d.source); col >= 0) {
     report.ok = false;
     report.message = "Cholesky pivot not positive at unknown " +
                      std::to_string(d.dof[static_cast<std::size_t>(col)]) +

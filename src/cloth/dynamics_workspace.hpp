@@ -20,7 +20,6 @@ struct DirectSystem {
   std::vector<int> row;        ///< permuted row of each stored entry
   std::vector<int> source;     ///< offset of each stored entry in the blocks (as doubles)
   std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
-  std::vector<double> values;  ///< gathered values
   SparseCholesky cholesky;
 };
 

@@ -423,7 +423,8 @@ void SparseCholesky::schedule_solves(const std::vector<char>& in_top) {
   for (std::vector<double>& v : m_product) v.resize(at(m_n));
 }
 
-int SparseCholesky::factor_front(int s, std::span<const double> values, double* U) {
+int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<const int> source,
+                                 double* U) {
   const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
   double* P = m_panel.data() + m_panel_start[at(s)];
@@ -431,8 +432,13 @@ int SparseCholesky::factor_front(int s, std::span<const double> values, double* 
   // (Of the update matrices only the lower triangles are written and read.)
   std::fill(P, P + at(f) * at(w), 0.0);
   for (int q = 0; q < b; ++q) std::fill(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), 0.0);
-  for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
-    P[m_entries[k].offset] += values[at(m_entries[k].entry)];
+  if (source.empty()) {
+    for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
+      P[m_entries[k].offset] += base[at(m_entries[k].entry)];
+  } else {
+    for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
+      P[m_entries[k].offset] += base[at(source[at(m_entries[k].entry)])];
+  }
   // ... and the extend-add of its children's update matrices (lower triangles).
   for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
     const int child = m_children[at(c)];
@@ -466,11 +472,17 @@ int SparseCholesky::factor_front(int s, std::span<const double> values, double* 
 
 int SparseCholesky::factorize(std::span<const double> values) {
   DEXCLOTH_DEMAND(values.size() == m_entries.size());
+  return factorize(values, {});
+}
+
+int SparseCholesky::factorize(std::span<const double> base, std::span<const int> source) {
+  DEXCLOTH_DEMAND(source.empty() ? base.size() == m_entries.size()
+                                 : source.size() == m_entries.size());
   // The threads' subtrees (each stops at its first failed pivot), then the top.
   auto subtrees = [&](int t) {
     m_failure[at(t)] = -1;
     for (int s : m_task_order[at(t)])
-      if ((m_failure[at(t)] = factor_front(s, values, m_front[at(t)].data())) >= 0) return;
+      if ((m_failure[at(t)] = factor_front(s, base, source, m_front[at(t)].data())) >= 0) return;
   };
   if (m_pool) {
     m_pool->run(subtrees);
@@ -482,7 +494,7 @@ int SparseCholesky::factorize(std::span<const double> values) {
     if (f >= 0 && (failed < 0 || f < failed)) failed = f;
   if (failed >= 0) return failed;
   for (int s : m_top_order)
-    if (const int f = factor_front(s, values, m_front[0].data()); f >= 0) return f;
+    if (const int f = factor_front(s, base, source, m_front[0].data()); f >= 0) return f;
   return -1;
 }
 

@@ -27,6 +27,9 @@ class SparseCholesky {
   /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on
   /// success, else the first column whose pivot is not positive and finite.
   int factorize(std::span<const double> values);
+  /// The same with value k of A read as base[source[k]] (`source` aligned with the analysed
+  /// `row`): the gather runs inside the fronts, on their threads.
+  int factorize(std::span<const double> base, std::span<const int> source);
 
   /// Solves A·x = b in place (`b` of size n holds x on return). Requires a successful factorize.
   /// The solves run on the factorisation's threads, bitwise the same for any thread count.
@@ -68,9 +71,10 @@ class SparseCholesky {
   /// (`sparent`, −1 for roots), each front's flops and the largest update matrix.
   void schedule(const std::vector<int>& sparent, const std::vector<double>& work,
                 std::size_t max_update);
-  /// Assembles and partially factorises supernode s's front (update matrix built in `U`);
-  /// returns −1, or the column of a failed pivot.
-  int factor_front(int s, std::span<const double> values, double* U);
+  /// Assembles and partially factorises supernode s's front (update matrix built in `U`), A's
+  /// value k being base[k], or base[source[k]] when `source` is not empty; returns −1, or the
+  /// column of a failed pivot.
+  int factor_front(int s, std::span<const double> base, std::span<const int> source, double* U);
 
   // Multifrontal schedule: supernodes children first (a postorder), each one's update matrix
   // at m_stack_offset[s] of the stack; its children's update rows land at m_relmap positions
