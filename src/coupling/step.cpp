@@ -68,8 +68,9 @@ void next_external_forces(const WorldModel& model, WorldData& data, std::size_t 
 /// Coulomb friction (the paper's §4.2 conditions, same fN and μ) into the implicit solve: a
 /// pinch then holds the load the whole cloth puts on it. The paper's per-vertex NCP after the
 /// solve sees only one vertex's share of a cloth that falls freely in the solve, so a strip
-/// slid out of a gripper at 1.5 N*; it still handles each contact's first step. Returns the
-/// seconds the friction took beyond one solve of the cloth (interface time in Table 1).
+/// slid out of a gripper at 1.5 N*; it still handles each contact's first step. The friction
+/// constraints are friction_constraints' (made before). Returns the seconds the friction took
+/// beyond one solve of the cloth (interface time in Table 1).
 double cloth_dynamics(const WorldModel& model, WorldData& data) {
   double friction_seconds = 0.0;
   const bool bai_liu = model.mode == CouplingMode::bai_liu;
