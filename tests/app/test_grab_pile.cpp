@@ -43,13 +43,17 @@ TEST(GrabPile, TheGripperPicksTheTopNapkinOffThePile) {
   EXPECT_GT(lifted.mean, 0.1);
 }
 
-TEST(GrabPile, TheKinematicJawsCrushThePileAndLiftBothNapkins) {
-  // Kinematic jaws push the cloth through itself where they squeeze the pile (240–384
-  // intersecting pairs over four piles), so the bottom napkin, caught in the top one, comes up
-  // with it.
+TEST(GrabPile, TheKinematicJawsCrushThePileAndLiftTheBottomNapkin) {
+  // Kinematic jaws push the cloth through itself where they squeeze the pile, so the bottom
+  // napkin, caught in the top one, comes up too. Over eight piles (5 Dec: this one with this
+  // machine's BLAS kernels and with OPENBLAS_CORETYPE=Cooperlake, SkylakeX, Sandybridge; the
+  // top napkin turned 19.5 or 20.5° or shifted 0.5 mm in x or y): 163–405 intersecting pairs,
+  // the bottom napkin's mean height at 3.2 s 14.9–16.8 cm, the top one's 11.3–17.4 cm in seven
+  // and 2.5 cm in one (turned 20.5°: left on the table). So the top napkin's lift is not
+  // asserted. The bottom one's is chance too, only less often: a build whose hinge assembly
+  // rounded differently (not merged, 5 Dec) lifted neither napkin (2.0–2.5 cm).
   const Pile p = run("grab_pile_kinematic", "--coupling kinematic --duration 3.2");
   EXPECT_FALSE(p.summary["nan"].get<bool>());
   EXPECT_GT(p.summary["intersections_max"].get<int>(), 0);
-  EXPECT_GT(heights_at(p.top, 3.2).mean, 0.1);
   EXPECT_GT(heights_at(p.bottom, 3.2).mean, 0.1);
 }
