@@ -44,20 +44,31 @@ class WorkerPool {
   bool m_stop{};
 };
 
-/// Calls body(k) for k = 0 .. count − 1, each k on whichever of `pool`'s threads is free (for
-/// pieces of uneven work), or all on the calling thread when `pool` is null. Whatever the
-/// threads, each k is called once; results written per k do not depend on them.
-template <typename Body>
-void for_each_index(WorkerPool* pool, std::size_t count, Body body) {
+/// Calls first() on the calling thread and body(k) for k = 0 .. count − 1, each k on whichever
+/// of `pool`'s threads is free (for pieces of uneven work): the other threads start on the
+/// indices at once, the calling thread joins them when first() returns. With a null `pool`, all
+/// on the calling thread, first() first. Whatever the threads, each k is called once; results
+/// written per k do not depend on them.
+template <typename First, typename Body>
+void for_each_index_after(WorkerPool* pool, First first, std::size_t count, Body body) {
   if (pool == nullptr) {
+    first();
     for (std::size_t k = 0; k < count; ++k) body(k);
     return;
   }
   std::atomic<std::size_t> next{0};
-  auto task = [&](int) {
+  auto task = [&](int t) {
+    if (t == 0) first();
     for (std::size_t k = next++; k < count; k = next++) body(k);
   };
   pool->run(task);
+}
+
+/// for_each_index_after with nothing first.
+template <typename Body>
+void for_each_index(WorkerPool* pool, std::size_t count, Body body) {
+  for_each_index_after(
+      pool, [] {}, count, body);
 }
 
 }  // namespace dexcloth

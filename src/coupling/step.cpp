@@ -1,7 +1,6 @@
 #include "coupling/step.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -260,23 +259,16 @@ double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, Work
     for (int k = 0; k < pieces; ++k) data.assembly_pieces.push_back({static_cast<int>(c), k});
   }
   double rigid_seconds = 0.0;
-  std::atomic<std::size_t> next{0};
-  auto task = [&](int t) {
-    if (t == 0) {
-      Stopwatch rigid;
-      rigid_step(data);
-      rigid_seconds = rigid.lap();
-    }
-    for (std::size_t k = next++; k < data.assembly_pieces.size(); k = next++) {
-      const auto [c, piece] = data.assembly_pieces[k];
-      cloth::assemble_piece(model.cloths[static_cast<std::size_t>(c)].model,
-                            data.cloths[static_cast<std::size_t>(c)], piece);
-    }
+  const auto rigid = [&] {
+    Stopwatch clock;
+    rigid_step(data);
+    rigid_seconds = clock.lap();
   };
-  if (pool != nullptr)
-    pool->run(task);
-  else
-    task(0);
+  for_each_index_after(pool, rigid, data.assembly_pieces.size(), [&](std::size_t k) {
+    const auto [c, piece] = data.assembly_pieces[k];
+    cloth::assemble_piece(model.cloths[static_cast<std::size_t>(c)].model,
+                          data.cloths[static_cast<std::size_t>(c)], piece);
+  });
   return rigid_seconds;
 }
 
