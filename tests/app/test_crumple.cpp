@@ -3,7 +3,10 @@
 /// the centre of mass keeps its velocity, and on a table with friction the heap comes to rest.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -66,15 +69,27 @@ TEST(Crumple, OnAFrictionlessTableTheHeapsCentreOfMassKeepsItsVelocity) {
 }
 
 TEST(Crumple, OnATableWithFrictionTheHeapDoesNotCrawlAway) {
-  // It had crawled 22 cm across the table from 2.2 s to 3.0 s and fallen off. It does not come
-  // to rest in every start, though: over six starts shifted 0–0.1 mm, the centroid moved 0.0,
-  // 0.3, 0.9, 8.4, 17 and 19 mm from 2.2 s to 3.0 s (one of them 12 cm by 5.8 s). The 8 mm
-  // mesh is mangled where the hanging napkin lands (edges at 0.14–2.2 of their rest length),
-  // and every step the repulsion pushes most vertices by up to 7 mm against the stretched
-  // membrane; the table's friction turns that jitter into the drift (README).
-  const auto c = centroids(run_crumple("crumple_friction"));
-  const auto a = at(c, 2.2), b = at(c, 3.0);
-  EXPECT_LT(std::hypot(b[1] - a[1], b[2] - a[2]), 0.025);
-  EXPECT_NEAR(b[3], a[3], 5e-3);
-  EXPECT_LT(b[3], 0.03);  // a heap a few layers high, not risen
+  // It had crawled 22 cm across the table from 2.2 s to 3.0 s, risen, and fallen off. The heap
+  // is chaotic: any change of rounding gives another heap. So three starts (the scene's, the
+  // napkin shifted 0.1 mm, turned 0.5°) are asserted together. It does not come to rest, either:
+  // its creases keep opening against the friction and flaps fall, so the heap sinks (by up to
+  // 22 mm in eight starts) and its centroid moves as it spreads. Over those eight starts (shifts
+  // of 0.1–0.5 mm, turns of 0.5–1°, three OpenBLAS kernels) the centroid moved 1.4–25 mm, median
+  // 5 mm (README). The 8 mm mesh is mangled where the hanging napkin lands (edges at 0.14–2.2 of
+  // their rest length), and every step the repulsion pushes vertices against the stretched
+  // membrane; the table's friction turns that jitter into some drift.
+  const std::vector<std::string> starts = {
+      "", "--set '/cloths/0/transform/translation=[0.0001,0,0.004]'",
+      "--set '/cloths/0/transform/rotation_deg=[0,0,0.5]'"};
+  std::vector<double> drifts;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const auto c = centroids(run_crumple("crumple_friction_" + std::to_string(k), starts[k]));
+    const auto a = at(c, 2.2), b = at(c, 3.0);
+    drifts.push_back(std::hypot(b[1] - a[1], b[2] - a[2]));
+    EXPECT_LT(drifts.back(), 0.04) << "start " << k;
+    EXPECT_LT(b[3], a[3] + 2e-3) << "start " << k << ": the heap rose";
+    EXPECT_LT(b[3], 0.03) << "start " << k;  // a heap a few layers high, not risen
+  }
+  std::sort(drifts.begin(), drifts.end());
+  EXPECT_LT(drifts[1], 0.015);  // the median
 }
