@@ -96,6 +96,11 @@ bool closing(const std::vector<ContactGroup>& groups, std::size_t first, std::si
   return false;
 }
 
+/// Friction NCP answers further than this from the conditions (relative to the vertex's force
+/// scale) are warned about. The solver aims at 1e-9; at a vertex in a fold's crease (two contacts
+/// all but stuck, their lines of sticking a hair apart) rounding alone leaves up to ~1e-7.
+constexpr double kFrictionWarnViolation = 1e-6;
+
 /// Time constant of the low-pass filter on the DART normal force of each cloth vertex [s].
 constexpr double kForceFilterTime = 0.05;
 
@@ -514,7 +519,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
         mesh.frozen[static_cast<std::size_t>(i)] = collision::kHeldByFriction;
         ++frozen;
       }
-      if (!r.ok) {
+      if (r.violation > kFrictionWarnViolation) {
         ++unsolved;
         if (r.violation > worst) {
           worst = r.violation;
@@ -529,7 +534,7 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
   if (unsolved > 0) {
     char worst_text[32];
     std::snprintf(worst_text, sizeof worst_text, "%.1e", worst);
-    data.warnings.add(data.step, "friction NCP not solved to tolerance at " +
+    data.warnings.add(data.step, "friction NCP not solved to 1e-6 of the force scale at " +
                                      std::to_string(unsolved) +
                                      (unsolved == 1 ? " vertex" : " vertices") + "; worst: cloth " +
                                      std::to_string(worst_cloth) + " vertex " +

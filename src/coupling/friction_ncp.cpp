@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/assert.hpp"
 
@@ -338,8 +339,19 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
   const auto violation = [&](const FrictionResult& candidate) {
     return friction_violation(contacts, mass, h, candidate, coplanar_sin);
   };
+  // Every checked candidate is measured; when none passes, the least violating one is the
+  // answer. Near a double kink (two contacts all but stuck, their lines of sticking a hair
+  // apart, as at a fold's symmetric crease) a static candidate can miss the tolerance by
+  // rounding alone, while the dual refinement, flat along the forces that cancel, ends far off.
+  FrictionResult best;
+  double best_violation = std::numeric_limits<double>::infinity();
   const auto passes = [&](const FrictionResult& candidate) {
-    return violation(candidate) <= 1e-9 * scale;
+    const double v = violation(candidate);
+    if (v < best_violation) {
+      best = candidate;
+      best_violation = v;
+    }
+    return v <= 1e-9 * scale;
   };
   bool found = false;
   if (!parallel) {
@@ -380,17 +392,22 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
       r = candidate;
       found = true;
     }
-    if (!found) solve_general(contacts, p.a, &p.P, r);
+    if (!found) {
+      solve_general(contacts, p.a, &p.P, r);
+      passes(r);
+    }
   }
   if (!found) {
-    // No candidate passed: refine the dual answer, let the 3-D Newton polish its Δv, keep the
-    // better of the two. The contacts left not sliding (to the check's tolerance) stick.
+    // No candidate passed: refine the dual answer and let the 3-D Newton polish its Δv. The
+    // least violating answer of all stays. The contacts left not sliding (to the check's
+    // tolerance) stick.
     refine_dual(contacts, p.a, P.data(), p.c.data(), passes, r);
+    passes(r);
     FrictionResult polished;
     if (try_general_dynamic(contacts, p.a, p.c.data(), P.data(), p.speed_eps, r.delta_v,
-                            polished) &&
-        violation(polished) < violation(r))
-      r = polished;
+                            polished))
+      passes(polished);
+    r = best;
     r.which = parallel ? FrictionCase::all_dynamic : FrictionCase::general;
     r.anchor = -1;
     double held = 0.0;
