@@ -11,6 +11,10 @@
 ///                     Eigen's incomplete Cholesky (AMD order, its default fill and shift),
 ///                     recomputed for each step's matrix (included), warm-started alike, to the
 ///                     PCG's tolerance: the issue-18 lever "PCG with incomplete Cholesky".
+///   BM_ClothReanalysis  the analysis the Schur complement's friction path redoes whenever its
+///                     set of friction vertices changes (93 times in pinch_move's 640 steps):
+///                     the sheet's vertices in fill order, those of a k×k patch last, with the
+///                     patch's last vertex alternately in the patch and out of it.
 ///   BM_ClothFriction  a step with Coulomb friction on a square patch of k×k vertices in the
 ///                     middle of the 65×65 sheet (a surface dragging it sideways; bounds from
 ///                     1/4 to 7/4 of what would stop each vertex, so some stick and some slide):
@@ -136,6 +140,34 @@ void BM_ClothSubstitution(benchmark::State& bench) {
   set_size_counters(bench, s.model);
 }
 
+void BM_ClothReanalysis(benchmark::State& bench) {
+  const int n = static_cast<int>(bench.range(0)), k = 12;
+  PinnedSheet s(n, static_cast<int>(bench.range(1)));
+  std::vector<char> in_patch(static_cast<std::size_t>(n * n), 0);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j)
+      in_patch[static_cast<std::size_t>((n - k) / 2 + i + n * ((n - k) / 2 + j))] = 1;
+  const auto order = [&](bool last_in) {
+    std::vector<int> dofs, tail;
+    const int last = (n - k) / 2 + k - 1 + n * ((n - k) / 2 + k - 1);
+    for (int v : s.model.pattern.fill_order) {
+      const bool patch = in_patch[static_cast<std::size_t>(v)] && (last_in || v != last);
+      for (int c = 0; c < 3; ++c) (patch ? tail : dofs).push_back(3 * v + c);
+    }
+    dofs.insert(dofs.end(), tail.begin(), tail.end());
+    return dofs;
+  };
+  const std::vector<int> orders[2] = {order(true), order(false)};
+  cloth::DirectSystem d;
+  int which = 0;
+  for (auto _ : bench) {
+    cloth::analyse_unknowns(s.model.pattern, orders[which], s.model.solver.threads, d);
+    which = 1 - which;
+  }
+  bench.counters["factor_nnz"] = static_cast<double>(d.cholesky.factor_nonzeros());
+  set_size_counters(bench, s.model);
+}
+
 void BM_ClothFriction(benchmark::State& bench) {
   constexpr int n = 65;
   PinnedSheet s(n, 1);
@@ -250,6 +282,7 @@ BENCHMARK(BM_ClothStep)->Apply(sizes);
 BENCHMARK(BM_ClothAssembly)->Apply(sizes);
 BENCHMARK(BM_ClothSolve)->Apply(solve_sizes);
 BENCHMARK(BM_ClothSubstitution)->Apply(sizes);
+BENCHMARK(BM_ClothReanalysis)->Apply(sizes);
 BENCHMARK(BM_ClothSolveIncompleteCholesky)
     ->Arg(33)
     ->Arg(65)

@@ -275,8 +275,9 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
             {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
     m_entry_start.push_back(m_entries.size());
   }
-  // Buffers are only sized (every factorisation writes what it reads; zeroing the last
-  // analysis's ~14 MB of panels took a third of pinch_move's re-analyses).
+  // Buffers are only sized, their contents neither kept nor zeroed (every factorisation writes
+  // what it reads; zeroing the last analysis's ~14 MB of panels took a third of pinch_move's
+  // re-analyses, and a vector's copy and zero-fill on growing another third).
   m_panel.resize(m_panel_start.back());
   schedule(sparent, work, max_update);
 }
@@ -386,7 +387,7 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
   place(m_top_order);
   m_stack.resize(base);
   m_front.resize(at(threads));
-  for (std::vector<double>& front : m_front) front.resize(max_update);
+  for (ScratchArray& front : m_front) front.resize(max_update);
   m_failure.assign(at(threads), -1);
 }
 

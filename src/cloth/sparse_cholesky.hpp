@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "core/scratch_array.hpp"
 #include "core/worker_pool.hpp"
 
 namespace dexcloth::cloth {
@@ -63,7 +64,7 @@ class SparseCholesky {
   // column-major) at m_panel[m_panel_start[s] ..].
   std::vector<int> m_first, m_row_start, m_rows, m_super_of;
   std::vector<std::size_t> m_panel_start;
-  std::vector<double> m_panel;
+  ScratchArray m_panel;
   std::size_t m_unused_upper{};  // entries above the diagonal of the panels' pivot blocks
   double m_flops{};
   double m_parallel_share{1.0};
@@ -90,10 +91,10 @@ class SparseCholesky {
   };
   std::vector<Entry> m_entries;            // A's values, grouped by supernode
   std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
-  std::vector<double> m_stack;
-  std::vector<std::vector<double>> m_front;  // per thread: the update matrix being built
-  std::vector<int> m_failure;                // per thread: a failed pivot's column, or −1
-  std::unique_ptr<WorkerPool> m_pool;        // none for one thread
+  ScratchArray m_stack;
+  std::vector<ScratchArray> m_front;   // per thread: the update matrix being built
+  std::vector<int> m_failure;          // per thread: a failed pivot's column, or −1
+  std::unique_ptr<WorkerPool> m_pool;  // none for one thread
 
   // Solves on the threads (large factors only): task t's supernodes in column order
   // (m_solve_order[t]); whether a supernode is in the top; per subtree supernode, its updates of

@@ -1,0 +1,31 @@
+#pragma once
+/// An array of doubles for scratch that is always written before it is read: resizing neither
+/// keeps nor initialises its contents, and it reallocates only to grow, with a quarter of
+/// headroom. (A std::vector<double> of a factor's panels, ~14 MB at 8k triangles, copied and
+/// zero-filled what it gained at every re-analysis: 2.0–2.8 ms of pinch_move's 7 ms ones.)
+#include <cstddef>
+#include <memory>
+
+namespace dexcloth {
+
+class ScratchArray {
+ public:
+  /// size() becomes n; the contents are undefined.
+  void resize(std::size_t n) {
+    if (n > m_capacity) {
+      m_capacity = n + n / 4;
+      m_data.reset();  // free first: the old contents are not kept
+      m_data.reset(new double[m_capacity]);
+    }
+    m_size = n;
+  }
+  std::size_t size() const { return m_size; }
+  double* data() { return m_data.get(); }
+  const double* data() const { return m_data.get(); }
+
+ private:
+  std::unique_ptr<double[]> m_data;
+  std::size_t m_size{}, m_capacity{};
+};
+
+}  // namespace dexcloth
