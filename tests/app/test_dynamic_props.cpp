@@ -20,7 +20,8 @@ TEST(DynamicProps, ABoxOnAClothOnATableRestsOnTheCloth) {
   // centre near 35 mm; on the bare table it would be at 25 mm, through the cloth. Where it
   // settles varies with rounding alone: by OpenBLAS kernel (OPENBLAS_CORETYPE) its lowest is
   // 33.4 mm with this machine's default and with Sandybridge, 32.97 mm with Cooperlake or
-  // SkylakeX (at 0.76 s); its last 33.4–34.9 mm. Required: above 31 mm, 6 mm clear of the table.
+  // SkylakeX (at 0.76 s); its last 33.4–34.9 mm (32.5 lowest, 34.2 last, with any kernels, since
+  // the flat-edge pairs went). Required: above 31 mm, 6 mm clear of the table.
   const auto s = run_box("box_on_cloth");
   expect_intact(s);
   for (const auto& row : s["probes"]["box"]) {
@@ -29,7 +30,10 @@ TEST(DynamicProps, ABoxOnAClothOnATableRestsOnTheCloth) {
     EXPECT_NEAR(row[1].get<double>(), 0.0, 1e-3);
     EXPECT_NEAR(row[2].get<double>(), 0.0, 1e-3);
   }
-  for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.002);
+  // The cloth vertex under the box's centre lies on the diagonals of the table's top and of the
+  // box's bottom, whose faces also met it along tilted normals until pairs ending on such flat
+  // edges were left out: it dips to 1.68 mm as the box lands (2.85 mm before) and rests at 3.9.
+  for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0015);
 }
 
 TEST(DynamicProps, TheKinematicBaselineLetsTheBoxSinkThroughTheCloth) {

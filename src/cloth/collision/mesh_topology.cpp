@@ -33,11 +33,14 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices) {
   for (std::size_t i = 0; i < half.size();) {
     const int e = static_cast<int>(topo.edges.size());
     topo.edges.push_back({half[i].lo, half[i].hi});
+    topo.edge_faces.push_back({half[i].face, -1});
     topo.owned_edges[static_cast<std::size_t>(half[i].face)] |=
         static_cast<std::uint8_t>(1u << half[i].corner);
     std::size_t j = i;
-    for (; j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi; ++j)
+    for (; j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi; ++j) {
       topo.face_edges[static_cast<std::size_t>(half[j].face)][static_cast<std::size_t>(half[j].corner)] = e;
+      if (j == i + 1) topo.edge_faces.back()[1] = half[j].face;
+    }
     i = j;
   }
 

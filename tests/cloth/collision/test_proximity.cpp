@@ -87,6 +87,73 @@ TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
 
 namespace {
 
+/// A flat 10 cm square obstacle in z = 0, two triangles sharing the diagonal from (−5, −5) to
+/// (5, 5) cm: the diagonal is no feature of its surface.
+CollisionMesh flat_square() {
+  CollisionMesh square;
+  square.obstacle = true;
+  square.x0.resize(4, 3);
+  square.x0 << -0.05, -0.05, 0.0, 0.05, -0.05, 0.0, 0.05, 0.05, 0.0, -0.05, 0.05, 0.0;
+  square.x1 = square.x0;
+  square.faces.resize(2, 3);
+  square.faces << 0, 1, 2, 0, 2, 3;
+  return square;
+}
+
+}  // namespace
+
+TEST(Proximity, AFlatObstaclesDiagonalGivesNoSidewaysNormal) {
+  // A cloth triangle 2 mm up whose vertex 0 lies 2 mm off the diagonal, over the lower face:
+  // the upper face is nearest it on the diagonal, 2.8 mm away along a normal 45° off vertical.
+  // Only the face under it counts, straight up; the cloth's edge crossing above the diagonal
+  // and rising 4 mm over its 10 mm has no edge–edge pair with it (its lower end is the nearest
+  // point to the plane, a vertex–face pair). Before, those pairs pushed crumpled cloth along a
+  // frictionless table.
+  const CollisionMesh square = flat_square();
+  CollisionMesh cloth;
+  cloth.x0.resize(3, 3);
+  const double off = 0.002 / std::sqrt(2.0);
+  cloth.x0 << off, -off, 0.002, off - 0.01 / std::sqrt(2.0), -off + 0.01 / std::sqrt(2.0), 0.006,
+      off + 0.005, -off + 0.01, 0.006;
+  cloth.x1 = cloth.x0;
+  cloth.faces.resize(1, 3);
+  cloth.faces << 0, 1, 2;
+  cloth.mass = Eigen::VectorXd::Constant(3, 1e-4);
+  cloth.frozen.assign(3, 0);
+  const std::vector<Proximity> found = proximities({&cloth, &square}, 5e-3);
+  int vertex0 = 0;
+  for (const Proximity& p : found) {
+    EXPECT_NEAR(p.normal.z(), 1.0, 1e-12) << (p.edge_edge ? "edge–edge" : "vertex–face");
+    if (!p.edge_edge && p.mesh[0] == 0 && p.first == 0) {
+      ++vertex0;
+      EXPECT_EQ(p.second, 0);  // the face under it
+      EXPECT_NEAR(p.distance, 0.002, 1e-12);
+    }
+  }
+  EXPECT_EQ(vertex0, 1);
+}
+
+TEST(Proximity, ABoxsSharpEdgeStillMeetsAClothEdgeAcrossIt) {
+  // A cloth edge 3 mm beyond a box's top edge, across it: the edge–edge pair with a feature edge
+  // (faces at 90°) stays, its normal off both faces.
+  const CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
+  CollisionMesh cloth;
+  cloth.x0.resize(3, 3);
+  const double d = 0.003 / std::sqrt(2.0);
+  cloth.x0 << d - 0.01, 0.0, d + 0.01, d + 0.01, 0.0, d - 0.01, d, 0.02, d;
+  cloth.x1 = cloth.x0;
+  cloth.faces.resize(1, 3);
+  cloth.faces << 0, 1, 2;
+  cloth.mass = Eigen::VectorXd::Constant(3, 1e-4);
+  cloth.frozen.assign(3, 0);
+  bool across = false;
+  for (const Proximity& p : proximities({&cloth, &box}, 5e-3))
+    across = across || (p.edge_edge && p.normal.x() > 0.5 && p.normal.z() > 0.5);
+  EXPECT_TRUE(across);
+}
+
+namespace {
+
 /// A 5 mm grid strip 0.2 m long folded in the middle into a U of inner radius r (arms 2r
 /// apart along z), its rest shape the flat strip.
 CollisionMesh folded_strip(double r) {
