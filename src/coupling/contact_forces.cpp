@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 #include "coupling/friction_ncp.hpp"
 
@@ -532,9 +533,11 @@ int apply_friction(double h, double coplanar_deg, WorldData& data) {
   }
   // One warning per step: how many vertices, and the worst (relative to its problem's force scale).
   if (unsolved > 0) {
-    char worst_text[32];
+    char worst_text[32], bound_text[32];
     std::snprintf(worst_text, sizeof worst_text, "%.1e", worst);
-    data.warnings.add(data.step, "friction NCP not solved to 1e-6 of the force scale at " +
+    std::snprintf(bound_text, sizeof bound_text, "%.0e", kFrictionWarnViolation);
+    data.warnings.add(data.step, std::string("friction NCP not solved to ") + bound_text +
+                                     " of the force scale at " +
                                      std::to_string(unsolved) +
                                      (unsolved == 1 ? " vertex" : " vertices") + "; worst: cloth " +
                                      std::to_string(worst_cloth) + " vertex " +

@@ -336,9 +336,6 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
     order[j] = i;
   }
   const double scale = force_scale(p);
-  const auto violation = [&](const FrictionResult& candidate) {
-    return friction_violation(contacts, mass, h, candidate, coplanar_sin);
-  };
   // Every checked candidate is measured; when none passes, the least violating one is the
   // answer. Near a double kink (two contacts all but stuck, their lines of sticking a hair
   // apart, as at a fold's symmetric crease) a static candidate can miss the tolerance by
@@ -346,7 +343,7 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
   FrictionResult best;
   double best_violation = std::numeric_limits<double>::infinity();
   const auto passes = [&](const FrictionResult& candidate) {
-    const double v = violation(candidate);
+    const double v = friction_violation(contacts, mass, h, candidate, coplanar_sin);
     if (v < best_violation) {
       best = candidate;
       best_violation = v;
@@ -422,7 +419,7 @@ FrictionResult solve_friction(std::span<const FrictionContact> contacts, double 
       }
     }
   }
-  r.violation = friction_violation(contacts, mass, h, r, coplanar_sin) / force_scale(p);
+  r.violation = friction_violation(contacts, mass, h, r, coplanar_sin) / scale;
   r.ok = r.violation <= 1e-9;
   return r;
 }
