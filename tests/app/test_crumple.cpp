@@ -84,6 +84,26 @@ TEST(Crumple, OnAFrictionlessTableTheHeapsCentreOfMassKeepsItsVelocity) {
   }
 }
 
+TEST(Crumple, OnAFrictionlessTableMadeOfManyTrianglesTheHeapsCentreKeepsItsVelocity) {
+  // The same on a table given as an OBJ mesh (tests/app/data/grid_table.obj) whose top is split
+  // into 12 × 12 squares: its inner vertices, like its diagonals, are no features of the
+  // surface, and pairs ending on them are left out (a cloth vertex beside one leans toward it).
+  // With the scene's start the velocity changed by 0.00 mm/s (0.06 mm/s before such vertices
+  // were left out; 0.31 with the napkin turned 0.5°).
+  const auto c = centroids(
+      run_crumple("crumple_grid_table",
+                  "--set '/obstacles/0/shape={\"obj\":\"grid_table.obj\"}' --set "
+                  "'/obstacles/0/transform/translation=[0,0,0]' --set /obstacles/0/friction=0"));
+  const auto a = at(c, 1.6), b = at(c, 2.3), e = at(c, 3.0);
+  for (int axis : {1, 2}) {
+    const double v1 =
+        (b[static_cast<std::size_t>(axis)] - a[static_cast<std::size_t>(axis)]) / (b[0] - a[0]);
+    const double v2 =
+        (e[static_cast<std::size_t>(axis)] - b[static_cast<std::size_t>(axis)]) / (e[0] - b[0]);
+    EXPECT_NEAR(v1, v2, 2e-3) << "axis " << axis;
+  }
+}
+
 TEST(Crumple, OnATableWithFrictionTheHeapDoesNotCrawlAway) {
   // It had crawled 22 cm across the table from 2.2 s to 3.0 s, risen, and fallen off. The heap
   // is chaotic: any change of rounding gives another heap. So three starts (the scene's, the

@@ -38,11 +38,25 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices) {
         static_cast<std::uint8_t>(1u << half[i].corner);
     std::size_t j = i;
     for (; j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi; ++j) {
-      topo.face_edges[static_cast<std::size_t>(half[j].face)][static_cast<std::size_t>(half[j].corner)] = e;
+      topo.face_edges[static_cast<std::size_t>(half[j].face)]
+                     [static_cast<std::size_t>(half[j].corner)] = e;
       if (j == i + 1) topo.edge_faces.back()[1] = half[j].face;
     }
     i = j;
   }
+
+  // The faces around each vertex.
+  topo.vertex_face_start.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) ++topo.vertex_face_start[static_cast<std::size_t>(faces(f, k)) + 1];
+  for (std::size_t v = 0; v < static_cast<std::size_t>(num_vertices); ++v)
+    topo.vertex_face_start[v + 1] += topo.vertex_face_start[v];
+  topo.vertex_faces.resize(static_cast<std::size_t>(3 * nf));
+  std::vector<int> next(topo.vertex_face_start.begin(), topo.vertex_face_start.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      topo.vertex_faces[static_cast<std::size_t>(next[static_cast<std::size_t>(faces(f, k))]++)] =
+          f;
 
   // Each vertex belongs to the first face that lists it.
   std::vector<std::uint8_t> seen(static_cast<std::size_t>(num_vertices), 0);

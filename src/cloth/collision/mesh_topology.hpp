@@ -14,6 +14,8 @@ struct MeshTopology {
   std::vector<std::array<int, 2>> edges;       ///< |E| unique edges, (low, high) vertex index
   std::vector<std::array<int, 3>> face_edges;  ///< |F| edge k of face f joins corners k and k+1
   std::vector<std::array<int, 2>> edge_faces;  ///< |E| its first two faces (−1: none)
+  std::vector<int> vertex_face_start;          ///< |V|+1 offsets into vertex_faces
+  std::vector<int> vertex_faces;               ///< the faces around each vertex, by vertex
   std::vector<std::uint8_t> owned_vertices;    ///< |F| bit k: face f owns its corner k
   std::vector<std::uint8_t> owned_edges;       ///< |F| bit k: face f owns its edge k
   int num_vertices{};                          ///< |V| the topology was built for

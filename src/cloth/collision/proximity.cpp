@@ -45,35 +45,69 @@ constexpr double kFoldLength = 0.5 * std::numbers::pi;
 // which the vertex–face pairs have, while the edges' common perpendicular tilts with the cloth
 // edge's slope; and a cloth vertex over one of the two faces is nearest the other at the edge,
 // with the gap tilted toward the vertex. Both pushed crumpled cloth sideways along a flat,
-// frictionless table (up to 75 mm/s of its centre's velocity in 0.7 s). Such pairs are left
-// out. Coplanar: normals within about 0.1°.
+// frictionless table (up to 75 mm/s of its centre's velocity in 0.7 s). Nor is a vertex inside
+// a flat region (all its faces in one plane, none of its edges on the mesh's boundary): a cloth
+// vertex over one face is nearest another at that vertex, and the vertex is nearest a cloth face
+// above it along a gap that leans with the cloth. Such pairs are left out; the cloth's vertices
+// over the region have their pairs straight down. Coplanar: normals within about 0.1°.
 constexpr double kFlatEdgeCosine = 1.0 - 1e-6;
 
-bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
-  const std::array<int, 2>& f = topology.edge_faces[static_cast<std::size_t>(edge)];
-  if (f[1] < 0) return false;
-  const auto normal = [&](int face) {
-    const Vec3 a = row(m, m.faces(face, 0)), b = row(m, m.faces(face, 1)),
-               c = row(m, m.faces(face, 2));
-    return Vec3((b - a).cross(c - a));
-  };
-  const Vec3 n0 = normal(f[0]), n1 = normal(f[1]);
+Vec3 face_normal(const CollisionMesh& m, int face) {
+  const Vec3 a = row(m, m.faces(face, 0)), b = row(m, m.faces(face, 1)),
+             c = row(m, m.faces(face, 2));
+  return (b - a).cross(c - a);
+}
+
+bool coplanar(const Vec3& n0, const Vec3& n1) {
   return n0.dot(n1) >= kFlatEdgeCosine * n0.norm() * n1.norm();
 }
 
-// Whether a vertex–face gap ends on a flat edge of `face` (barycentric `bary`, one weight zero)
-// and leans off the face normal `n`.
-bool on_flat_edge(const CollisionMesh& m, const MeshTopology& topology, int face, const Vec3& bary,
-                  const Vec3& gap, const Vec3& n) {
-  int edge = -1;  // edge k of a face joins its corners k and k + 1
-  if (bary[2] == 0.0 && bary[0] > 0.0 && bary[1] > 0.0) edge = 0;
-  if (bary[0] == 0.0 && bary[1] > 0.0 && bary[2] > 0.0) edge = 1;
-  if (bary[1] == 0.0 && bary[2] > 0.0 && bary[0] > 0.0) edge = 2;
-  if (edge < 0) return false;
-  if (gap.cross(n).norm() <= 1e-6 * gap.norm() * n.norm()) return false;  // straight above it
-  return flat_edge(
-      m, topology,
-      topology.face_edges[static_cast<std::size_t>(face)][static_cast<std::size_t>(edge)]);
+bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
+  const std::array<int, 2>& f = topology.edge_faces[static_cast<std::size_t>(edge)];
+  return f[1] >= 0 && coplanar(face_normal(m, f[0]), face_normal(m, f[1]));
+}
+
+// Whether vertex v lies inside a flat region of its mesh; its plane's normal into `normal`.
+bool flat_vertex(const CollisionMesh& m, const MeshTopology& topology, int v, Vec3& normal) {
+  const auto first =
+      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v)]);
+  const auto end =
+      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v) + 1]);
+  if (first == end) return false;
+  normal = face_normal(m, topology.vertex_faces[first]);
+  for (std::size_t k = first; k < end; ++k) {
+    const int f = topology.vertex_faces[k];
+    const std::array<int, 3>& edges = topology.face_edges[static_cast<std::size_t>(f)];
+    for (int c = 0; c < 3; ++c) {
+      if (m.faces(f, c) != v) continue;  // its edges at v: c (to c + 1) and c + 2 (from c + 2)
+      for (int e :
+           {edges[static_cast<std::size_t>(c)], edges[static_cast<std::size_t>((c + 2) % 3)]})
+        if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return false;  // boundary
+    }
+    if (!coplanar(face_normal(m, f), normal)) return false;
+  }
+  return true;
+}
+
+bool along(const Vec3& gap, const Vec3& n) {
+  return gap.cross(n).norm() <= 1e-6 * gap.norm() * n.norm();
+}
+
+// Whether a vertex–face gap to an obstacle face ends on a flat edge or a flat vertex of it
+// (barycentric `bary`: one weight zero, or one weight 1), off the face normal n.
+bool on_flat_feature(const CollisionMesh& m, const MeshTopology& topology, int face,
+                     const Vec3& bary, const Vec3& gap, const Vec3& n) {
+  if (along(gap, n)) return false;  // straight above the face
+  for (int k = 0; k < 3; ++k) {
+    const int next = (k + 1) % 3, other = (k + 2) % 3;  // edge k joins corners k and k + 1
+    if (bary[other] == 0.0 && bary[k] > 0.0 && bary[next] > 0.0)
+      return flat_edge(
+          m, topology,
+          topology.face_edges[static_cast<std::size_t>(face)][static_cast<std::size_t>(k)]);
+    Vec3 plane;
+    if (bary[k] == 1.0) return flat_vertex(m, topology, m.faces(face, k), plane);
+  }
+  return false;
 }
 
 /// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
@@ -90,8 +124,12 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   if (dist >= thickness) return;
   const bool cloth_pair = !vm.obstacle && !fm.obstacle;
   if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) return;
-  if (fm.obstacle && on_flat_edge(fm, candidates.topology(c.face_mesh), c.face, bary, gap,
-                                  (xb - xa).cross(xc - xa)))
+  if (fm.obstacle && on_flat_feature(fm, candidates.topology(c.face_mesh), c.face, bary, gap,
+                                     (xb - xa).cross(xc - xa)))
+    return;
+  Vec3 plane;
+  if (vm.obstacle && flat_vertex(vm, candidates.topology(c.vertex_mesh), c.vertex, plane) &&
+      !along(gap, plane))
     return;
   Proximity prox;
   prox.edge_edge = false;

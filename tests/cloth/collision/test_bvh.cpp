@@ -46,8 +46,10 @@ Soup random_soup(std::mt19937& rng, int nv, int nf, double size, double motion) 
 std::pair<Vec3, Vec3> box(const Soup& s, int f, double margin) {
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (int k = 0; k < 3; ++k) {
-    lo = lo.cwiseMin(s.x0.row(s.faces(f, k)).transpose()).cwiseMin(s.x1.row(s.faces(f, k)).transpose());
-    hi = hi.cwiseMax(s.x0.row(s.faces(f, k)).transpose()).cwiseMax(s.x1.row(s.faces(f, k)).transpose());
+    lo = lo.cwiseMin(s.x0.row(s.faces(f, k)).transpose())
+             .cwiseMin(s.x1.row(s.faces(f, k)).transpose());
+    hi = hi.cwiseMax(s.x0.row(s.faces(f, k)).transpose())
+             .cwiseMax(s.x1.row(s.faces(f, k)).transpose());
   }
   return {lo.array() - margin, hi.array() + margin};
 }
@@ -161,7 +163,8 @@ TEST(MeshTopology, EveryEdgeAndVertexOwnedExactlyOnce) {
     owned_edges += std::popcount(static_cast<unsigned>(t.owned_edges[f]));
     owned_vertices += std::popcount(static_cast<unsigned>(t.owned_vertices[f]));
     for (int k = 0; k < 3; ++k) {
-      const auto& e = t.edges[static_cast<std::size_t>(t.face_edges[f][static_cast<std::size_t>(k)])];
+      const auto& e =
+          t.edges[static_cast<std::size_t>(t.face_edges[f][static_cast<std::size_t>(k)])];
       const int a = faces(static_cast<int>(f), k), b = faces(static_cast<int>(f), (k + 1) % 3);
       EXPECT_EQ(e[0], std::min(a, b));
       EXPECT_EQ(e[1], std::max(a, b));
@@ -169,4 +172,12 @@ TEST(MeshTopology, EveryEdgeAndVertexOwnedExactlyOnce) {
   }
   EXPECT_EQ(owned_edges, 8);
   EXPECT_EQ(owned_vertices, 5);
+  // The faces around each vertex, in face order.
+  const std::vector<std::vector<int>> around = {{0, 3}, {0, 1}, {0, 1, 2, 3}, {1, 2}, {2, 3}, {}};
+  ASSERT_EQ(t.vertex_face_start.size(), 7u);
+  for (std::size_t v = 0; v < 6; ++v)
+    EXPECT_EQ(std::vector<int>(t.vertex_faces.begin() + t.vertex_face_start[v],
+                               t.vertex_faces.begin() + t.vertex_face_start[v + 1]),
+              around[v])
+        << "vertex " << v;
 }

@@ -133,6 +133,53 @@ TEST(Proximity, AFlatObstaclesDiagonalGivesNoSidewaysNormal) {
   EXPECT_EQ(vertex0, 1);
 }
 
+TEST(Proximity, AVertexInsideAFlatObstacleGivesNoSidewaysNormal) {
+  // The square again, split into four triangles around a vertex at its centre: a cloth vertex
+  // 2 mm up and 2 mm off the centre, over the lower face, is nearest the upper face at that
+  // centre vertex, 2.8 mm away along a normal 45° off vertical (and the side faces on their
+  // flat edges). A vertex whose faces all lie in one plane is no feature either: only the face
+  // under the cloth vertex counts.
+  CollisionMesh square;
+  square.obstacle = true;
+  square.x0.resize(5, 3);
+  square.x0 << -0.05, -0.05, 0.0, 0.05, -0.05, 0.0, 0.05, 0.05, 0.0, -0.05, 0.05, 0.0, 0.0, 0.0,
+      0.0;
+  square.x1 = square.x0;
+  square.faces.resize(4, 3);
+  square.faces << 4, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0;
+  CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(-0.005, -0.012, 0.002), 1e-4);
+  // Vertex 2 of the sheet sits at (−5, −2, 2) mm: move it to (0, −2, 2) mm.
+  int v = -1;
+  for (int k = 0; k < cloth.x0.rows(); ++k)
+    if (std::abs(cloth.x0(k, 0) + 0.005) < 1e-12 && std::abs(cloth.x0(k, 1) + 0.002) < 1e-12) v = k;
+  ASSERT_GE(v, 0);
+  cloth.x0(v, 0) = 0.0;
+  cloth.x1 = cloth.x0;
+  int under = 0;
+  for (const Proximity& p : proximities({&cloth, &square}, 5e-3)) {
+    EXPECT_NEAR(p.normal.z(), 1.0, 1e-12)
+        << (p.edge_edge ? "edge–edge" : "vertex–face") << " of cloth primitive " << p.first;
+    if (!p.edge_edge && p.mesh[0] == 0 && p.first == v) {
+      ++under;
+      EXPECT_EQ(p.second, 0);  // the face under it
+      EXPECT_NEAR(p.distance, 0.002, 1e-12);
+    }
+  }
+  EXPECT_EQ(under, 1);
+}
+
+TEST(Proximity, ABoxsCornerStillMeetsAClothVertexBeyondIt) {
+  // A cloth vertex 2 mm beyond a box's top corner along each axis: the corner is a feature (its
+  // faces at 90°), so the pair stays, its normal along the diagonal.
+  const CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.0, 0.0));
+  CollisionMesh cloth = make_sheet(1, 1, 0.01, 0.01, Vec3(0.002, 0.002, 0.002), 1e-4);
+  bool corner = false;
+  for (const Proximity& p : proximities({&cloth, &box}, 5e-3))
+    corner = corner || (!p.edge_edge && p.mesh[0] == 0 && p.first == 0 &&
+                        std::abs(p.normal.z() - 1.0 / std::sqrt(3.0)) < 1e-9);
+  EXPECT_TRUE(corner);
+}
+
 TEST(Proximity, ABoxsSharpEdgeStillMeetsAClothEdgeAcrossIt) {
   // A cloth edge 3 mm beyond a box's top edge, across it: the edge–edge pair with a feature edge
   // (faces at 90°) stays, its normal off both faces.
