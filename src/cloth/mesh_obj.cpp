@@ -1,5 +1,6 @@
 // load_obj (declared in cloth/mesh.hpp): a small Wavefront OBJ reader for cloth meshes.
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <string>
 #include <string_view>
@@ -37,9 +38,10 @@ std::vector<std::string_view> split_blanks(std::string_view s) {
   return out;
 }
 
+/// A finite number (from_chars also reads "nan" and "inf").
 bool parse_double(std::string_view s, double& out) {
   const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size();
+  return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
 }
 
 bool parse_long(std::string_view s, long& out) {
@@ -95,11 +97,11 @@ ClothMesh load_obj(const std::string& path) {
       double c[3] = {0.0, 0.0, 0.0};
       bool good = tok.size() >= need + 1;
       for (std::size_t k = 0; good && k < need; ++k) good = parse_double(tok[k + 1], c[k]);
-      if (!good) {
+      if (!good) {  // still counted, so that later indices and their messages stay right
         errors.add(path, where(line),
                    std::string("bad '") + std::string(tok[0]) + "' record: expected " +
-                       std::to_string(need) + " numbers");
-        continue;
+                       std::to_string(need) + " finite numbers");
+        c[0] = c[1] = c[2] = 0.0;
       }
       if (tok[0] == "v") positions.emplace_back(c[0], c[1], c[2]);
       if (tok[0] == "vt") uvs.emplace_back(c[0], c[1]);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 
+#include <assimp/cimport.h>
 #include <assimp/scene.h>
 #include <dart/collision/CollisionObject.hpp>
 #include <dart/collision/bullet/BulletCollisionDetector.hpp>
@@ -42,6 +43,22 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
   ErrorList errors;
   errors.add(file.empty() ? std::string("rigid world") : file, "", std::move(message));
   throw InputRejected(std::move(errors));
+}
+
+/// What makes a loaded mesh unusable as a body's surface, or "" if nothing: no triangles, or a
+/// non-finite coordinate (the reader takes "nan" and "inf" for numbers).
+std::string mesh_problem(const aiScene& scene) {
+  int triangles = 0;
+  for (unsigned k = 0; k < scene.mNumMeshes; ++k) {
+    const aiMesh& mesh = *scene.mMeshes[k];
+    for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
+      const aiVector3D& p = mesh.mVertices[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        return "mesh has a non-finite vertex coordinate";
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) triangles += mesh.mFaces[f].mNumIndices == 3 ? 1 : 0;
+  }
+  return triangles == 0 ? "cannot read mesh: no triangles" : "";
 }
 
 /// Creates a single-body skeleton with a free root and one collision shape.
@@ -403,7 +420,11 @@ SkeletonId RigidWorld::add_prop(const PropSpec& prop) {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(prop.mesh_path, ec)) reject(prop.mesh_path, where + ": mesh file not found");
       const aiScene* scene = dd::MeshShape::loadMesh(std::filesystem::absolute(prop.mesh_path, ec).string());
-      if (scene == nullptr || scene->mNumMeshes == 0) reject(prop.mesh_path, where + ": cannot read mesh");
+      if (scene == nullptr) reject(prop.mesh_path, where + ": cannot read mesh");
+      if (const std::string problem = mesh_problem(*scene); !problem.empty()) {
+        aiReleaseImport(scene);  // a MeshShape would own it
+        reject(prop.mesh_path, where + ": " + problem);
+      }
       shape = std::make_shared<dd::MeshShape>(prop.mesh_scale, scene);
       break;
     }

@@ -154,6 +154,14 @@ TEST(Obj, RejectsBadFilesNamingFileAndLine) {
   EXPECT_NE(rejection(bad_number).find(bad_number + ": line 3: bad 'v' record"), std::string::npos)
       << rejection(bad_number);
 
+  for (const char* number : {"nan", "inf", "-inf", "1e999"}) {
+    const std::string path = write_temp(
+        "non_finite.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 ") + number + " 0\nf 1 2 3\n");
+    EXPECT_NE(rejection(path).find(path + ": line 3: bad 'v' record: expected 3 finite numbers"),
+              std::string::npos)
+        << number << ": " << rejection(path);
+  }
+
   const std::string range = write_temp("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n");
   EXPECT_NE(rejection(range).find(range + ": line 5: vertex index 4 out of range"),
             std::string::npos)

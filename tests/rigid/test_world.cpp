@@ -2,6 +2,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "rigid/world.hpp"
@@ -29,10 +32,12 @@ TEST(RigidWorld, HumanHandHas33DofsAdultMassAndCapsules) {
   // Cylinders were loaded as capsules: the exported distal mesh reaches the tip cap.
   std::vector<ObstacleMesh> meshes;
   world.export_obstacle_meshes(meshes);
-  const auto it = std::find_if(meshes.begin(), meshes.end(), [](const auto& m) { return m.name == "hand/middle_distal"; });
+  const auto it = std::find_if(meshes.begin(), meshes.end(),
+                               [](const auto& m) { return m.name == "hand/middle_distal"; });
   ASSERT_NE(it, meshes.end());
   double reach = 0.0;
-  for (Eigen::Index i = 0; i < it->x.rows(); ++i) reach = std::max(reach, (Vec3(it->x.row(i).transpose()) - wrist).norm());
+  for (Eigen::Index i = 0; i < it->x.rows(); ++i)
+    reach = std::max(reach, (Vec3(it->x.row(i).transpose()) - wrist).norm());
   EXPECT_NEAR(reach, 0.189, 0.002);
 }
 
@@ -53,6 +58,31 @@ TEST(RigidWorld, MissingAndMalformedUrdfNameTheFile) {
   } catch (const InputRejected& e) {
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("malformed"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RigidWorld, AMeshPropWithNonFiniteOrNoTrianglesIsRejectedNamingTheFile) {
+  // The mesh reader takes "nan" and "inf" for numbers; a body made of them has no surface.
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"dexcloth_nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"},
+      {"dexcloth_inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n"},
+      {"dexcloth_lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n"}};
+  for (const auto& [name, text] : cases) {
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << text;
+    RigidWorld world;
+    PropSpec prop;
+    prop.name = "bowl";
+    prop.shape = PropSpec::Shape::mesh;
+    prop.mesh_path = path;
+    try {
+      world.add_prop(prop);
+      FAIL() << name << " accepted";
+    } catch (const InputRejected& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bowl"), std::string::npos) << e.what();
+    }
   }
 }
 
@@ -112,7 +142,8 @@ TEST(RigidWorld, PointJacobianMatchesFiniteDifferences) {
   RigidWorld world;
   const SkeletonId hand = world.add_urdf("hand", asset("human_hand.urdf"));
   Eigen::VectorXd q = world.positions(hand);
-  for (int i = 6; i < q.size(); ++i) q[i] = 0.5 * (world.position_lower_limits(hand)[i] + world.position_upper_limits(hand)[i]);
+  for (int i = 6; i < q.size(); ++i)
+    q[i] = 0.5 * (world.position_lower_limits(hand)[i] + world.position_upper_limits(hand)[i]);
   world.set_positions(hand, q);
   const BodyId tip = world.body("hand/index_distal");
   const Vec3 p_B(0.02, 0.0, -0.005);
