@@ -1,9 +1,12 @@
 // load_obj (declared in cloth/mesh.hpp): a small Wavefront OBJ reader for cloth meshes.
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cloth/mesh.hpp"
@@ -165,6 +168,7 @@ ClothMesh load_obj(const std::string& path) {
   mesh.faces.resize(num_tris, 3);
   if (all_uv) mesh.face_uv.resize(num_tris, 6);
   long f = 0;
+  std::vector<std::pair<std::array<int, 3>, int>> sorted;  // each triangle's corners, its line
   for (const Polygon& p : polygons) {
     for (std::size_t k = 1; k + 1 < p.corners.size(); ++k, ++f) {
       const Corner* tri[3] = {&p.corners[0], &p.corners[k], &p.corners[k + 1]};
@@ -173,8 +177,19 @@ ClothMesh load_obj(const std::string& path) {
         if (all_uv)
           mesh.face_uv.block<1, 2>(f, 2 * c) = uvs[static_cast<std::size_t>(tri[c]->vt - 1)];
       }
+      std::array<int, 3> corners{mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)};
+      std::sort(corners.begin(), corners.end());
+      sorted.emplace_back(corners, p.line);
     }
   }
+  // A triangle listed twice would double its stiffness and mass and sit on itself.
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 1; k < sorted.size(); ++k)
+    if (sorted[k].first == sorted[k - 1].first)
+      errors.add(path, where(std::max(sorted[k].second, sorted[k - 1].second)),
+                 "triangle repeats the one on line " +
+                     std::to_string(std::min(sorted[k].second, sorted[k - 1].second)));
+  if (!errors.empty()) throw InputRejected(std::move(errors));
   return mesh;
 }
 

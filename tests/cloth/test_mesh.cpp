@@ -185,6 +185,12 @@ TEST(Obj, RejectsBadFilesNamingFileAndLine) {
             std::string::npos)
       << rejection(vt_range);
 
+  const std::string twice =
+      write_temp("twice.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 3 1 2\n");
+  EXPECT_NE(rejection(twice).find(twice + ": line 7: triangle repeats the one on line 5"),
+            std::string::npos)
+      << rejection(twice);
+
   const std::string no_faces = write_temp("empty.obj", "v 0 0 0\n# nothing else\n");
   EXPECT_NE(rejection(no_faces).find(no_faces + ": no faces"), std::string::npos);
 }
