@@ -1,6 +1,7 @@
 #include "cloth/collision/proximity.hpp"
 
 #include <numbers>
+#include <optional>
 
 #include "cloth/collision/closest_points.hpp"
 
@@ -67,14 +68,14 @@ bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
   return f[1] >= 0 && coplanar(face_normal(m, f[0]), face_normal(m, f[1]));
 }
 
-// Whether vertex v lies inside a flat region of its mesh; its plane's normal into `normal`.
-bool flat_vertex(const CollisionMesh& m, const MeshTopology& topology, int v, Vec3& normal) {
+// The normal of the flat region vertex v lies inside, if it does.
+std::optional<Vec3> flat_vertex(const CollisionMesh& m, const MeshTopology& topology, int v) {
   const auto first =
       static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v)]);
   const auto end =
       static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v) + 1]);
-  if (first == end) return false;
-  normal = face_normal(m, topology.vertex_faces[first]);
+  if (first == end) return std::nullopt;
+  const Vec3 normal = face_normal(m, topology.vertex_faces[first]);
   for (std::size_t k = first; k < end; ++k) {
     const int f = topology.vertex_faces[k];
     const std::array<int, 3>& edges = topology.face_edges[static_cast<std::size_t>(f)];
@@ -82,11 +83,11 @@ bool flat_vertex(const CollisionMesh& m, const MeshTopology& topology, int v, Ve
       if (m.faces(f, c) != v) continue;  // its edges at v: c (to c + 1) and c + 2 (from c + 2)
       for (int e :
            {edges[static_cast<std::size_t>(c)], edges[static_cast<std::size_t>((c + 2) % 3)]})
-        if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return false;  // boundary
+        if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return std::nullopt;  // rim
     }
-    if (!coplanar(face_normal(m, f), normal)) return false;
+    if (!coplanar(face_normal(m, f), normal)) return std::nullopt;
   }
-  return true;
+  return normal;
 }
 
 bool along(const Vec3& gap, const Vec3& n) {
@@ -104,8 +105,7 @@ bool on_flat_feature(const CollisionMesh& m, const MeshTopology& topology, int f
       return flat_edge(
           m, topology,
           topology.face_edges[static_cast<std::size_t>(face)][static_cast<std::size_t>(k)]);
-    Vec3 plane;
-    if (bary[k] == 1.0) return flat_vertex(m, topology, m.faces(face, k), plane);
+    if (bary[k] == 1.0) return flat_vertex(m, topology, m.faces(face, k)).has_value();
   }
   return false;
 }
@@ -127,10 +127,10 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   if (fm.obstacle && on_flat_feature(fm, candidates.topology(c.face_mesh), c.face, bary, gap,
                                      (xb - xa).cross(xc - xa)))
     return;
-  Vec3 plane;
-  if (vm.obstacle && flat_vertex(vm, candidates.topology(c.vertex_mesh), c.vertex, plane) &&
-      !along(gap, plane))
-    return;
+  if (vm.obstacle)
+    if (const auto plane = flat_vertex(vm, candidates.topology(c.vertex_mesh), c.vertex);
+        plane && !along(gap, *plane))
+      return;
   Proximity prox;
   prox.edge_edge = false;
   prox.mesh = {c.vertex_mesh, c.face_mesh};
