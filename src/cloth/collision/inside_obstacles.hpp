@@ -6,14 +6,10 @@
 #include <vector>
 
 #include "cloth/collision/collision_mesh.hpp"
+#include "cloth/collision/obstacle_pieces.hpp"
 #include "core/types.hpp"
 
 namespace dexcloth::collision {
-
-/// Generalized winding number of the closed triangle mesh (`x`, `faces`, counter-clockwise seen
-/// from outside) about point `p`: 1 inside, 0 outside (Jacobson et al. 2013; the sum of the
-/// faces' signed solid angles over 4π).
-double winding_number(const Points& x, const Triangles& faces, const Vec3& p);
 
 /// True when every edge of `faces` is shared by exactly two faces that run along it in opposite
 /// directions (a closed, consistently oriented surface, which has an inside).

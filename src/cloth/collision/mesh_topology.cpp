@@ -4,6 +4,50 @@
 
 namespace dexcloth::collision {
 
+namespace {
+
+/// Pieces of `faces`: faces joined by shared vertices (union–find over the vertices).
+void add_pieces(const Triangles& faces, MeshTopology& topo) {
+  const auto nv = static_cast<std::size_t>(topo.num_vertices);
+  std::vector<int> parent(nv);
+  for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<int>(v);
+  const auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  const auto nf = static_cast<std::size_t>(faces.rows());
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 1; k < 3; ++k) {
+      const auto i = static_cast<Eigen::Index>(f);
+      parent[static_cast<std::size_t>(root(faces(i, k)))] = root(faces(i, 0));
+    }
+  // Pieces numbered in the order of their first faces; their faces in the mesh's order.
+  std::vector<int> piece_of_root(nv, -1);
+  topo.face_piece.resize(nf);
+  topo.piece_face_start.assign(1, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    int& piece =
+        piece_of_root[static_cast<std::size_t>(root(faces(static_cast<Eigen::Index>(f), 0)))];
+    if (piece < 0) {
+      piece = static_cast<int>(topo.piece_face_start.size()) - 1;
+      topo.piece_face_start.push_back(0);
+    }
+    topo.face_piece[f] = piece;
+    ++topo.piece_face_start[static_cast<std::size_t>(piece) + 1];
+  }
+  for (std::size_t k = 1; k < topo.piece_face_start.size(); ++k)
+    topo.piece_face_start[k] += topo.piece_face_start[k - 1];
+  topo.piece_faces.resize(nf);
+  std::vector<int> next(topo.piece_face_start.begin(), topo.piece_face_start.end() - 1);
+  for (std::size_t f = 0; f < nf; ++f)
+    topo.piece_faces[static_cast<std::size_t>(
+        next[static_cast<std::size_t>(topo.face_piece[f])]++)] = static_cast<int>(f);
+}
+
+}  // namespace
+
 MeshTopology build_topology(const Triangles& faces, int num_vertices) {
   MeshTopology topo;
   const int nf = static_cast<int>(faces.rows());
@@ -29,7 +73,10 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices) {
     return p.face < q.face;
   });
 
-  // One edge per run of equal (lo, hi); the first (lowest) face owns it.
+  // One edge per run of equal (lo, hi); the first (lowest) face owns it. Closed: every run is
+  // two faces, one going lo → hi, the other hi → lo.
+  topo.closed = nf > 0;
+  const auto forward = [&](const HalfEdge& h) { return faces(h.face, h.corner) == h.lo; };
   for (std::size_t i = 0; i < half.size();) {
     const int e = static_cast<int>(topo.edges.size());
     topo.edges.push_back({half[i].lo, half[i].hi});
@@ -42,6 +89,7 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices) {
                      [static_cast<std::size_t>(half[j].corner)] = e;
       if (j == i + 1) topo.edge_faces.back()[1] = half[j].face;
     }
+    if (j != i + 2 || forward(half[i]) == forward(half[i + 1])) topo.closed = false;
     i = j;
   }
 
@@ -69,6 +117,7 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices) {
       }
     }
   }
+  add_pieces(faces, topo);
   return topo;
 }
 

@@ -18,11 +18,23 @@ struct MeshTopology {
   std::vector<int> vertex_faces;               ///< the faces around each vertex, by vertex
   std::vector<std::uint8_t> owned_vertices;    ///< |F| bit k: face f owns its corner k
   std::vector<std::uint8_t> owned_edges;       ///< |F| bit k: face f owns its edge k
-  int num_vertices{};                          ///< |V| the topology was built for
+  std::vector<int> face_piece;                 ///< |F| its piece: faces joined by shared
+                                               ///< vertices (a body's shapes are appended as
+                                               ///< separate pieces), numbered by first face
+  std::vector<int> piece_face_start;           ///< pieces+1 offsets into piece_faces
+  std::vector<int> piece_faces;                ///< the faces of each piece, by piece
+  bool closed{};  ///< every edge has exactly two faces, running along it in opposite directions
+                  ///< (a closed, consistently oriented surface, which has an inside)
+  int num_vertices{};  ///< |V| the topology was built for
+
+  /// Number of pieces.
+  int pieces() const {
+    return piece_face_start.empty() ? 0 : static_cast<int>(piece_face_start.size()) - 1;
+  }
 };
 
-/// Builds edges and ownership (a vertex or edge belongs to the first face that contains it) of
-/// `faces` (|F|×3) over `num_vertices` vertices.
+/// Builds edges, ownership (a vertex or edge belongs to the first face that contains it), pieces
+/// and closedness of `faces` (|F|×3) over `num_vertices` vertices.
 MeshTopology build_topology(const Triangles& faces, int num_vertices);
 
 /// True when faces `f` and `g` of `faces` share at least one vertex.

@@ -35,12 +35,27 @@ CollisionMesh make_sheet(int nx, int ny, double size_x, double size_y, const Vec
   return m;
 }
 
+CollisionMesh join_obstacles(const CollisionMesh& a, const CollisionMesh& b) {
+  CollisionMesh m = a;
+  const auto na = a.x0.rows();
+  m.x0.resize(na + b.x0.rows(), 3);
+  m.x0 << a.x0, b.x0;
+  m.x1.resize(m.x0.rows(), 3);
+  m.x1 << a.x1, b.x1;
+  m.faces.resize(a.faces.rows() + b.faces.rows(), 3);
+  m.faces << a.faces, (b.faces.array() + static_cast<int>(na)).matrix();
+  m.mass = Eigen::VectorXd::Ones(m.x0.rows());
+  m.obstacle = true;
+  return m;
+}
+
 CollisionMesh make_box(const Vec3& lo, const Vec3& hi) {
   CollisionMesh m;
   m.obstacle = true;
   m.x0.resize(8, 3);
   for (int k = 0; k < 8; ++k)
-    m.x0.row(k) << ((k & 1) ? hi.x() : lo.x()), ((k & 2) ? hi.y() : lo.y()), ((k & 4) ? hi.z() : lo.z());
+    m.x0.row(k) << ((k & 1) ? hi.x() : lo.x()), ((k & 2) ? hi.y() : lo.y()),
+        ((k & 4) ? hi.z() : lo.z());
   m.faces.resize(12, 3);
   m.faces << 0, 2, 3, 0, 3, 1,  // z = lo
       4, 5, 7, 4, 7, 6,         // z = hi

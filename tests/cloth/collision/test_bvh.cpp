@@ -7,9 +7,11 @@
 
 #include "cloth/collision/bvh.hpp"
 #include "cloth/collision/mesh_topology.hpp"
+#include "mesh_builders.hpp"
 
 using namespace dexcloth;
 using namespace dexcloth::collision;
+using namespace dexcloth::collision::testing;
 
 namespace {
 
@@ -180,4 +182,28 @@ TEST(MeshTopology, EveryEdgeAndVertexOwnedExactlyOnce) {
                                t.vertex_faces.begin() + t.vertex_face_start[v + 1]),
               around[v])
         << "vertex " << v;
+}
+
+TEST(MeshTopology, PiecesAreFacesJoinedByVerticesAndClosedMeansEveryEdgeTwiceOpposite) {
+  const CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  const CollisionMesh body =
+      join_obstacles(box, make_box(Vec3(0.0, -0.01, -0.01), Vec3(0.1, 0.01, 0.01)));
+  const MeshTopology t = build_topology(body.faces, static_cast<int>(body.x0.rows()));
+  EXPECT_TRUE(t.closed);
+  ASSERT_EQ(t.pieces(), 2);
+  for (std::size_t f = 0; f < 24; ++f) EXPECT_EQ(t.face_piece[f], f < 12 ? 0 : 1) << "face " << f;
+  for (int k = 0; k < 2; ++k)
+    for (int i = t.piece_face_start[static_cast<std::size_t>(k)];
+         i < t.piece_face_start[static_cast<std::size_t>(k) + 1]; ++i)
+      EXPECT_EQ(t.face_piece[static_cast<std::size_t>(t.piece_faces[static_cast<std::size_t>(i)])],
+                k);
+  // A face missing, or turned inside out: open.
+  EXPECT_FALSE(build_topology(box.faces.topRows(11), 8).closed);
+  Triangles turned = box.faces;
+  std::swap(turned(3, 1), turned(3, 2));
+  EXPECT_FALSE(build_topology(turned, 8).closed);
+  const MeshTopology sheet =
+      build_topology(make_sheet(3, 2, 0.3, 0.2, Vec3::Zero(), 1.0).faces, 12);
+  EXPECT_FALSE(sheet.closed);
+  EXPECT_EQ(sheet.pieces(), 1);
 }

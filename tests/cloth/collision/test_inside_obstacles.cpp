@@ -120,29 +120,13 @@ TEST(InsideObstacles, TheMoveOutIsNotMotionAndWhatApproachedTheSurfaceIsLost) {
   EXPECT_NEAR((motion1 - Vec3(0.0, 0.0, 0.002)).norm(), 0.0, 1e-12);
 }
 
-namespace {
-
-// Two boxes in one obstacle mesh, as a body with two shapes: separate pieces that overlap.
-CollisionMesh two_boxes(const CollisionMesh& a, const CollisionMesh& b) {
-  CollisionMesh m = a;
-  const auto na = a.x0.rows();
-  m.x0.resize(na + b.x0.rows(), 3);
-  m.x0 << a.x0, b.x0;
-  m.x1 = m.x0;
-  m.faces.resize(a.faces.rows() + b.faces.rows(), 3);
-  m.faces << a.faces, (b.faces.array() + static_cast<int>(na)).matrix();
-  m.mass = Eigen::VectorXd::Ones(m.x0.rows());
-  return m;
-}
-
-}  // namespace
-
 TEST(InsideObstacles, AVertexInsideOverlappingShapesLeavesByTheBodysOuterSurface) {
   // Box A, [−5, 5] cm cubed; box B, x in [0, 10] cm, z up to 4 cm, overlapping it. A vertex at
   // (4.5, 0, 3) cm, in both: the closest faces, A's x = 5 cm (5 mm) and B's top (10 mm), are
   // buried in the other box; the closest outer one is A's top (20 mm).
-  const CollisionMesh body = two_boxes(make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05)),
-                                       make_box(Vec3(0.0, -0.05, -0.05), Vec3(0.1, 0.05, 0.04)));
+  const CollisionMesh body =
+      join_obstacles(make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05)),
+                     make_box(Vec3(0.0, -0.05, -0.05), Vec3(0.1, 0.05, 0.04)));
   ASSERT_TRUE(closed_and_oriented(body.faces));
   CollisionMesh obstacle = body;
   CollisionMesh sheet = make_sheet(1, 1, 0.01, 0.01, Vec3(0.3, 0.3, 0.0), 1e-3);
@@ -206,4 +190,34 @@ TEST(InsideObstacles, AZeroAreaFaceDoesNotHideTheInside) {
   sheet.x0 = sheet.x1;
   EXPECT_EQ(push_out_of_obstacles({&sheet, &box}, 0.0).vertices, 1);
   EXPECT_NEAR(sheet.x1(0, 2), 0.05, 1e-12);
+}
+
+TEST(ObstaclePieces, ConvexPiecesAreLookedIntoByTheirFacesOthersByWindingNumber) {
+  // The dented box of the test above (not convex) and a convex box overlapping it on the side
+  // away from the dent.
+  CollisionMesh dented = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.05, 0.05, 0.05));
+  dented.x0.row(7) << 0.0, 0.0, 0.0;
+  dented.x1 = dented.x0;
+  const CollisionMesh body =
+      join_obstacles(dented, make_box(Vec3(-0.1, -0.01, -0.01), Vec3(-0.04, 0.01, 0.01)));
+  const MeshTopology topology = build_topology(body.faces, static_cast<int>(body.x0.rows()));
+  ObstaclePieces pieces;
+  pieces.update(body.x0, body.faces, topology);
+  ASSERT_EQ(pieces.size(), 2);
+  EXPECT_TRUE(pieces.inside(0, Vec3(0.03, 0.03, -0.04)));  // in front of a dented face's plane
+  EXPECT_FALSE(pieces.inside(0, Vec3(0.04, 0.04, 0.04)));  // in the dent
+  // The convex box: behind every face, by more than the margin when one is asked for.
+  EXPECT_TRUE(pieces.inside(1, Vec3(-0.05, 0.0, 0.0)));
+  EXPECT_TRUE(pieces.inside(1, Vec3(-0.05, 0.0, 0.0098), 1e-4));
+  EXPECT_FALSE(pieces.inside(1, Vec3(-0.05, 0.0, 0.00995), 1e-4));
+  EXPECT_FALSE(pieces.inside(1, Vec3(-0.05, 0.0, 0.01)));  // on its top face
+  // Inside another piece than its own: a point of the small box's surface buried in the big one.
+  EXPECT_TRUE(pieces.inside_other(1, Vec3(-0.045, 0.0, 0.01)));
+  EXPECT_FALSE(pieces.inside_other(1, Vec3(-0.06, 0.0, 0.01)));
+  EXPECT_FALSE(pieces.inside_other(0, Vec3(0.03, 0.03, -0.04)));
+  // An open mesh has no inside.
+  const Triangles open = body.faces.topRows(23);
+  const MeshTopology open_topology = build_topology(open, static_cast<int>(body.x0.rows()));
+  pieces.update(body.x0, open, open_topology);
+  EXPECT_EQ(pieces.size(), 0);
 }
