@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "cloth/collision/closest_points.hpp"
+#include "cloth/collision/obstacle_pieces.hpp"
 
 namespace dexcloth::collision {
 
@@ -110,8 +111,28 @@ bool on_flat_feature(const CollisionMesh& m, const MeshTopology& topology, int f
   return false;
 }
 
+// Where two shapes of one body overlap, the part of each one's surface inside the other is no
+// surface of the body, and a pair ending there pushes the cloth along that buried surface's
+// normal (in press_flatten, pairs with the thumb's capsule where it runs inside the pad box on
+// it, and the rising hand carried folds of the napkin up). Such pairs are left out: the segment
+// from the cloth to a buried point leaves the body through its outer surface, so a closer pair
+// on that surface is found. A point less than this many thicknesses inside another shape is on
+// the surface (the crease between them).
+constexpr double kBuriedMargin = 1e-6;
+
+// Whether point p of the surface of mesh m, on its face f, is buried in another of its pieces
+// (`pieces`: each mesh's, none for a cloth or an obstacle of one piece).
+bool buried(const std::vector<ObstaclePieces>& pieces, const CollisionCandidates& candidates, int m,
+            int f, const Vec3& p, double thickness) {
+  const ObstaclePieces& own = pieces[static_cast<std::size_t>(m)];
+  return own.size() > 1 &&
+         own.inside_other(candidates.topology(m).face_piece[static_cast<std::size_t>(f)], p,
+                          kBuriedMargin * thickness);
+}
+
 /// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
 void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
+                           const std::vector<ObstaclePieces>& pieces,
                            const CollisionCandidates& candidates, const VertexFacePair& c,
                            double thickness, std::vector<Proximity>& out) {
   const CollisionMesh& vm = *meshes[static_cast<std::size_t>(c.vertex_mesh)];
@@ -119,7 +140,8 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   const int a = fm.faces(c.face, 0), b = fm.faces(c.face, 1), cc = fm.faces(c.face, 2);
   const Vec3 p = row(vm, c.vertex), xa = row(fm, a), xb = row(fm, b), xc = row(fm, cc);
   const Vec3 bary = closest_point_triangle(p, xa, xb, xc);
-  const Vec3 gap = p - (bary[0] * xa + bary[1] * xb + bary[2] * xc);
+  const Vec3 q = bary[0] * xa + bary[1] * xb + bary[2] * xc;
+  const Vec3 gap = p - q;
   const double dist = gap.norm();
   if (dist >= thickness) return;
   const bool cloth_pair = !vm.obstacle && !fm.obstacle;
@@ -127,10 +149,15 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   if (fm.obstacle && on_flat_feature(fm, candidates.topology(c.face_mesh), c.face, bary, gap,
                                      (xb - xa).cross(xc - xa)))
     return;
-  if (vm.obstacle)
-    if (const auto plane = flat_vertex(vm, candidates.topology(c.vertex_mesh), c.vertex);
-        plane && !along(gap, *plane))
+  if (buried(pieces, candidates, c.face_mesh, c.face, q, thickness)) return;
+  if (vm.obstacle) {
+    const MeshTopology& topology = candidates.topology(c.vertex_mesh);
+    if (const auto plane = flat_vertex(vm, topology, c.vertex); plane && !along(gap, *plane))
       return;
+    const int face = topology.vertex_faces[static_cast<std::size_t>(
+        topology.vertex_face_start[static_cast<std::size_t>(c.vertex)])];
+    if (buried(pieces, candidates, c.vertex_mesh, face, p, thickness)) return;
+  }
   Proximity prox;
   prox.edge_edge = false;
   prox.mesh = {c.vertex_mesh, c.face_mesh};
@@ -145,6 +172,7 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
 
 /// The proximity of edge–edge candidate `c`, if closer than `thickness` (appended to `out`).
 void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
+                         const std::vector<ObstaclePieces>& pieces,
                          const CollisionCandidates& candidates, const EdgeEdgePair& c,
                          double thickness, std::vector<Proximity>& out) {
   const CollisionMesh& ma = *meshes[static_cast<std::size_t>(c.mesh_a)];
@@ -158,7 +186,8 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
   // Closest points at an edge's end are a vertex–face pair's (closest on that face's
   // boundary): keep edge–edge pairs for interior closest points only, so no pair counts twice.
   if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) return;
-  const Vec3 gap = (p0 + su[0] * (p1 - p0)) - (q0 + su[1] * (q1 - q0));
+  const Vec3 pa = p0 + su[0] * (p1 - p0), qb = q0 + su[1] * (q1 - q0);
+  const Vec3 gap = pa - qb;
   const double dist = gap.norm();
   if (dist >= thickness) return;
   const bool cloth_pair = !ma.obstacle && !mb.obstacle;
@@ -166,6 +195,11 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
   if ((ma.obstacle && flat_edge(ma, candidates.topology(c.mesh_a), c.edge_a)) ||
       (mb.obstacle && flat_edge(mb, candidates.topology(c.mesh_b), c.edge_b)))
     return;
+  const auto buried_edge = [&](int m, int edge, const Vec3& point) {
+    const int face = candidates.topology(m).edge_faces[static_cast<std::size_t>(edge)][0];
+    return buried(pieces, candidates, m, face, point, thickness);
+  };
+  if (buried_edge(c.mesh_a, c.edge_a, pa) || buried_edge(c.mesh_b, c.edge_b, qb)) return;
   Proximity prox;
   prox.edge_edge = true;
   prox.mesh = {c.mesh_a, c.mesh_b};
@@ -188,6 +222,13 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
   // face pairs of one cloth made only of rest neighbours are left out before any pair test.
   candidates.set_rest_neighbour_distance(kFoldLength * thickness);
   candidates.update(meshes, false, 0.5 * thickness);
+  // The pieces of every obstacle made of several (the shapes of one body), at x0.
+  std::vector<ObstaclePieces> pieces(meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const MeshTopology& topology = candidates.topology(static_cast<int>(m));
+    if (meshes[m]->obstacle && topology.pieces() > 1)
+      pieces[m].update(meshes[m]->x0, meshes[m]->faces, topology);
+  }
   // The vertex–face, then the edge–edge candidates, in consecutive chunks shared round-robin
   // among the pool's threads; the chunks' proximities concatenated in order.
   // Few candidates are tested on the calling thread (waking the pool costs more).
@@ -207,9 +248,9 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
       a.clear();
       b.clear();
       for (std::size_t k = vf.size() * c / chunks; k < vf.size() * (c + 1) / chunks; ++k)
-        vertex_face_proximity(meshes, candidates, vf[k], thickness, a);
+        vertex_face_proximity(meshes, pieces, candidates, vf[k], thickness, a);
       for (std::size_t k = ee.size() * c / chunks; k < ee.size() * (c + 1) / chunks; ++k)
-        edge_edge_proximity(meshes, candidates, ee[k], thickness, b);
+        edge_edge_proximity(meshes, pieces, candidates, ee[k], thickness, b);
     }
   };
   if (pool) {

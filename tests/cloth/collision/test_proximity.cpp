@@ -7,6 +7,7 @@
 
 #include "cloth/collision/closest_points.hpp"
 #include "cloth/collision/collision_candidates.hpp"
+#include "cloth/collision/obstacle_pieces.hpp"
 #include "cloth/collision/proximity.hpp"
 #include "core/worker_pool.hpp"
 #include "mesh_builders.hpp"
@@ -392,4 +393,53 @@ TEST(CollisionCandidates, OnAPoolTheCandidatesAreTheSameInTheSameOrder) {
           << threads << " threads, swept " << swept;
     }
   }
+}
+
+TEST(Proximity, ASurfaceBuriedInAnotherShapeOfTheBodyGivesNoPair) {
+  // A body of two shapes: a slab whose top is at z = 0 and a 10 mm pad box on it, sunk 3 mm
+  // into it and standing 1 mm out. Under the pad, the slab's top is buried in the pad, and the
+  // pad's bottom and the lower parts of its sides in the slab: no surface of the body. A cloth
+  // vertex 2 mm over the pad is 3 mm from the slab's buried top, and one beside the pad, 0.5 mm
+  // over the slab, 4 mm from the pad's buried bottom edge; only the outer surface meets them.
+  // (Each is the near corner of a triangle whose other corners are far up.)
+  const CollisionMesh body =
+      join_obstacles(make_box(Vec3(-0.05, -0.05, -0.02), Vec3(0.05, 0.05, 0.0)),
+                     make_box(Vec3(-0.005, -0.005, -0.003), Vec3(0.005, 0.005, 0.001)));
+  CollisionMesh cloth;
+  cloth.x0.resize(6, 3);
+  cloth.x0 << 0.001, 0.002, 0.003, 0.001, 0.03, 0.03, -0.03, 0.002, 0.03,  //
+      0.007, 0.0, 0.0005, 0.03, 0.0, 0.03, 0.03, 0.03, 0.03;
+  cloth.x1 = cloth.x0;
+  cloth.faces.resize(2, 3);
+  cloth.faces << 0, 1, 2, 3, 4, 5;
+  cloth.mass = Eigen::VectorXd::Constant(6, 1e-4);
+  cloth.frozen.assign(6, 0);
+  const MeshTopology topology = build_topology(body.faces, static_cast<int>(body.x0.rows()));
+  ObstaclePieces pieces;
+  pieces.update(body.x0, body.faces, topology);
+  bool over = false, beside_slab = false, beside_pad = false;
+  for (const Proximity& p : proximities({&cloth, &body}, 5e-3)) {
+    if (p.mesh[0] == 1) {  // a corner of the body near a cloth face
+      EXPECT_FALSE(pieces.inside_other(-1, body.x0.row(p.first).transpose(), 1e-9))
+          << "buried vertex " << p.first << " meets cloth face " << p.second;
+      continue;
+    }
+    // The pair's point on the cloth (vertex, or point of the edge) and on the body.
+    Vec3 x = p.w[0] * cloth.x0.row(p.corner[0]).transpose();
+    if (p.edge_edge) x += p.w[1] * cloth.x0.row(p.corner[1]).transpose();
+    const Vec3 surface = x - p.distance * p.normal;
+    EXPECT_FALSE(pieces.inside_other(-1, surface, 1e-9))
+        << (p.edge_edge ? "edge " : "vertex ") << p.first << " meets a buried point of "
+        << (p.edge_edge ? "edge " : "face ") << p.second;
+    const auto is = [&](int v, double d, const Vec3& n) {
+      return !p.edge_edge && p.first == v && std::abs(p.distance - d) < 1e-12 &&
+             (p.normal - n).norm() < 1e-12;
+    };
+    over = over || is(0, 0.002, Vec3::UnitZ());
+    beside_slab = beside_slab || is(3, 0.0005, Vec3::UnitZ());
+    beside_pad = beside_pad || is(3, 0.002, Vec3::UnitX());
+  }
+  EXPECT_TRUE(over);
+  EXPECT_TRUE(beside_slab);
+  EXPECT_TRUE(beside_pad);
 }
