@@ -8,8 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "cloth/collision/ccd.hpp"
 #include "cloth/collision/collision_candidates.hpp"
 #include "cloth/collision/collision_mesh.hpp"
+#include "cloth/collision/obstacle_pieces.hpp"
 #include "core/types.hpp"
 
 namespace dexcloth::collision {
@@ -77,6 +79,11 @@ class ImpactZoneSolver {
   };
 
   int find_impacts(const std::vector<CollisionMesh*>& meshes, const ImpactZoneOptions& options);
+  /// Turns `impact`'s normal to point out of the obstacle when its cloth primitive starts inside
+  /// the obstacle, less than `offset` from it (see the definition); true when it did.
+  bool orient_outward(const std::vector<CollisionMesh*>& meshes, bool edge_edge,
+                      const std::array<int, 4>& mesh, const std::array<int, 2>& primitive,
+                      const Corners& x0, double offset, Impact& impact);
   int find_root(int gid);
   /// Mesh and vertex index of global vertex id `gid`.
   std::pair<CollisionMesh*, int> locate(const std::vector<CollisionMesh*>& meshes, int gid) const;
@@ -96,6 +103,8 @@ class ImpactZoneSolver {
   CollisionCandidates m_candidates;
   std::vector<const CollisionMesh*> m_view;
   std::vector<Impact> m_impacts;
+  std::vector<ObstaclePieces> m_pieces;        // per mesh: closed obstacles' pieces at x0
+  std::vector<std::uint8_t> m_pieces_ready;    // per mesh: m_pieces updated this resolve
   std::vector<int> m_offset;                   // first global vertex id of each mesh
   std::vector<int> m_parent;                   // union–find over global vertex ids
   std::vector<std::uint8_t> m_level;           // per global id: 0 project, 1 rigid, 2 stay at x0
