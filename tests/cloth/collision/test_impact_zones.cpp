@@ -163,17 +163,13 @@ TEST(ImpactZones, AHeldVertexRunningIntoAZoneKeptAtItsStartIsLetGoWithIt) {
   EXPECT_EQ(count_intersections({&a, &b}, true), 0);
 }
 
-TEST(ImpactZones, AClothEdgeJustInsideABodysEdgeIsNotCarriedAlongAsTheBodyLeaves) {
-  // A cloth edge crosses a box's top edge (along y at x = z = 0) diagonally, dipping 7 µm into
-  // the box there (its ends 5 mm out, over the top and beside the side). The box moves 2 mm away
-  // from it (down and to −x) and the cloth stays. The edges' common perpendicular starts on the
-  // box's inner side; oriented by that start, the impact held the cloth edge inside the box's
-  // edge and dragged it 2 mm along. Just inside, the side is the body's: the cloth leaves and
-  // stays where it is.
-  CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
-  const Vec3 away = Vec3(-1.0, 0.0, -1.0).normalized() * 0.002;
-  box.x1 = box.x0.rowwise() + away.transpose();
-  const double dip = 7e-6, a = 0.005;
+namespace {
+
+// A cloth triangle whose edge 0–1 crosses the top edge of `box_with_top_edge_on_y` (along y at
+// x = z = 0) diagonally, `dip` [m] inside it there (negative: outside), its ends 5 mm out, over
+// the top and beside the side; its third corner is far out.
+CollisionMesh edge_across_box_edge(double dip) {
+  const double a = 0.005;
   CollisionMesh cloth;
   cloth.x0.resize(3, 3);
   cloth.x0 << -dip - a, 0.0, -dip + a, -dip + a, 0.0, -dip - a, 0.005, 0.02, 0.02;
@@ -182,6 +178,24 @@ TEST(ImpactZones, AClothEdgeJustInsideABodysEdgeIsNotCarriedAlongAsTheBodyLeaves
   cloth.faces << 0, 1, 2;
   cloth.mass = Eigen::VectorXd::Constant(3, 1e-4);
   cloth.frozen.assign(3, 0);
+  return cloth;
+}
+
+CollisionMesh box_with_top_edge_on_y() {
+  return make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
+}
+
+}  // namespace
+
+TEST(ImpactZones, AClothEdgeJustInsideABodysEdgeIsNotCarriedAlongAsTheBodyLeaves) {
+  // The cloth edge dips 7 µm into the box; the box moves 2 mm away from it (down and to −x) and
+  // the cloth stays. The edges' common perpendicular starts on the box's inner side; oriented by
+  // that start, the impact held the cloth edge inside the box's edge and dragged it along (1.4
+  // mm). Just inside, the side is the body's: the cloth leaves and stays where it is.
+  CollisionMesh box = box_with_top_edge_on_y();
+  const Vec3 away = Vec3(-1.0, 0.0, -1.0).normalized() * 0.002;
+  box.x1 = box.x0.rowwise() + away.transpose();
+  CollisionMesh cloth = edge_across_box_edge(7e-6);
   ImpactZoneSolver solver;
   const ImpactZoneReport report = solver.resolve({&cloth, &box}, ImpactZoneOptions{});
   EXPECT_TRUE(report.converged);
@@ -192,18 +206,10 @@ TEST(ImpactZones, AClothEdgeJustInsideABodysEdgeIsNotCarriedAlongAsTheBodyLeaves
 TEST(ImpactZones, AClothEdgeJustOutsideABodysEdgeIsStillPushedAlongAsTheBodyComes) {
   // The same edge 7 µm outside the box's edge, the box coming 2 mm toward it: it is pushed out
   // ahead of the box's edge, at least the box's motion along their common perpendicular.
-  CollisionMesh box = make_box(Vec3(-0.05, -0.05, -0.05), Vec3(0.0, 0.05, 0.0));
+  CollisionMesh box = box_with_top_edge_on_y();
   const Vec3 toward = Vec3(1.0, 0.0, 1.0).normalized() * 0.002;
   box.x1 = box.x0.rowwise() + toward.transpose();
-  const double dip = -7e-6, a = 0.005;
-  CollisionMesh cloth;
-  cloth.x0.resize(3, 3);
-  cloth.x0 << -dip - a, 0.0, -dip + a, -dip + a, 0.0, -dip - a, 0.005, 0.02, 0.02;
-  cloth.x1 = cloth.x0;
-  cloth.faces.resize(1, 3);
-  cloth.faces << 0, 1, 2;
-  cloth.mass = Eigen::VectorXd::Constant(3, 1e-4);
-  cloth.frozen.assign(3, 0);
+  CollisionMesh cloth = edge_across_box_edge(-7e-6);
   ImpactZoneSolver solver;
   const ImpactZoneReport report = solver.resolve({&cloth, &box}, ImpactZoneOptions{});
   EXPECT_TRUE(report.converged);
