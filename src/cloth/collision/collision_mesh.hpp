@@ -54,6 +54,14 @@ inline double inverse_mass(const CollisionMesh& mesh, int v) {
   return is_fixed(mesh, v) ? 0.0 : 1.0 / mesh.mass[v];
 }
 
+/// Normal of face `f` of (`x`, `faces`), twice the face's area long; on a closed obstacle, whose
+/// faces run counter-clockwise seen from outside, it points out.
+inline Vec3 face_normal(const Points& x, const Triangles& faces, Eigen::Index f) {
+  const Vec3 a = x.row(faces(f, 0)).transpose();
+  const Vec3 b = x.row(faces(f, 1)).transpose(), c = x.row(faces(f, 2)).transpose();
+  return (b - a).cross(c - a);
+}
+
 /// Friction coefficient of a contact between two surfaces: √(μa·μb) [-].
 inline double pair_friction(const CollisionMesh& a, const CollisionMesh& b) {
   return std::sqrt(a.friction * b.friction);

@@ -36,8 +36,7 @@ void merge_repeats(std::vector<std::string>& messages) {
 
 /// Unit normal of face f of `m` at x0 (outward on a closed obstacle: counter-clockwise).
 Vec3 unit_face_normal(const CollisionMesh& m, int f) {
-  const Vec3 a = x0_of(m, m.faces(f, 0));
-  const Vec3 n = (x0_of(m, m.faces(f, 1)) - a).cross(x0_of(m, m.faces(f, 2)) - a);
+  const Vec3 n = face_normal(m.x0, m.faces, f);
   return n.squaredNorm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero();
 }
 

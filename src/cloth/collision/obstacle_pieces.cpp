@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "cloth/collision/collision_mesh.hpp"
+
 namespace dexcloth::collision {
 
 namespace {
@@ -21,12 +23,6 @@ double solid_angle(const Points& x, const Triangles& faces, Eigen::Index f, cons
   const double numerator = a.dot(b.cross(c));
   const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
   return 2.0 * std::atan2(numerator, denominator);
-}
-
-/// Unnormalized normal of face f.
-Vec3 face_normal(const Points& x, const Triangles& faces, Eigen::Index f) {
-  const Vec3 a = corner(x, faces, f, 0);
-  return (corner(x, faces, f, 1) - a).cross(corner(x, faces, f, 2) - a);
 }
 
 }  // namespace

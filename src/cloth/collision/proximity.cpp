@@ -54,19 +54,13 @@ constexpr double kFoldLength = 0.5 * std::numbers::pi;
 // over the region have their pairs straight down. Coplanar: normals within about 0.1°.
 constexpr double kFlatEdgeCosine = 1.0 - 1e-6;
 
-Vec3 face_normal(const CollisionMesh& m, int face) {
-  const Vec3 a = row(m, m.faces(face, 0)), b = row(m, m.faces(face, 1)),
-             c = row(m, m.faces(face, 2));
-  return (b - a).cross(c - a);
-}
-
 bool coplanar(const Vec3& n0, const Vec3& n1) {
   return n0.dot(n1) >= kFlatEdgeCosine * n0.norm() * n1.norm();
 }
 
 bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
   const std::array<int, 2>& f = topology.edge_faces[static_cast<std::size_t>(edge)];
-  return f[1] >= 0 && coplanar(face_normal(m, f[0]), face_normal(m, f[1]));
+  return f[1] >= 0 && coplanar(face_normal(m.x0, m.faces, f[0]), face_normal(m.x0, m.faces, f[1]));
 }
 
 // The normal of the flat region vertex v lies inside, if it does.
@@ -76,7 +70,7 @@ std::optional<Vec3> flat_vertex(const CollisionMesh& m, const MeshTopology& topo
   const auto end =
       static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v) + 1]);
   if (first == end) return std::nullopt;
-  const Vec3 normal = face_normal(m, topology.vertex_faces[first]);
+  const Vec3 normal = face_normal(m.x0, m.faces, topology.vertex_faces[first]);
   for (std::size_t k = first; k < end; ++k) {
     const int f = topology.vertex_faces[k];
     const std::array<int, 3>& edges = topology.face_edges[static_cast<std::size_t>(f)];
@@ -86,7 +80,7 @@ std::optional<Vec3> flat_vertex(const CollisionMesh& m, const MeshTopology& topo
            {edges[static_cast<std::size_t>(c)], edges[static_cast<std::size_t>((c + 2) % 3)]})
         if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return std::nullopt;  // rim
     }
-    if (!coplanar(face_normal(m, f), normal)) return std::nullopt;
+    if (!coplanar(face_normal(m.x0, m.faces, f), normal)) return std::nullopt;
   }
   return normal;
 }
