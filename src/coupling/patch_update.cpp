@@ -48,7 +48,8 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const Wo
         if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
-      out.push_back({point, group.normal});
+      const auto body = static_cast<std::size_t>(group.other_mesh - cloth_meshes);
+      out.push_back({point, group.normal, !data.rigid.mesh_coupled[body]});
     }
   }
 }
@@ -151,7 +152,12 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
       // outer layers clustered apart or together), or the layers of a fold of one cloth.
       const int cloths = cloth_layers(cluster, cloth_meshes, data);
       const int n = cloths > 1 ? cloths : layers[k];
-      centre_between_surfaces(patch, touches[k], pinched_thickness + (n - 1) * model.thickness);
+      // Pressed onto a support (a table) instead, the cloth lies on it and the body rests one
+      // repulsion thickness above each layer.
+      if (!centre_between_surfaces(patch, touches[k],
+                                   pinched_thickness + (n - 1) * model.thickness))
+        lay_on_support(patch, touches[k],
+                       n * model.thickness + allowance - kPinchMargin * model.thickness);
       patch.cloths.clear();
       for (int& v : patch.vertices) {
         const auto [c, i] = data.patch_vertex_ids[static_cast<std::size_t>(v)];

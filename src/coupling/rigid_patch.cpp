@@ -245,6 +245,9 @@ Vec3 median_direction(std::array<std::vector<double>, 3>& components) {
 
 /// Surfaces within this angle of the patch normal carry its faces [deg].
 constexpr double kFacingDeg = 20.0;
+/// A driven body presses a cluster against a support when its surface normal is within this angle
+/// of the support's, reversed [deg].
+constexpr double kPressingDeg = 70.0;
 /// Share of a cluster's touches that must face one way for it to count as pressed from one side.
 constexpr double kOneSidedShare = 0.8;
 
@@ -261,6 +264,7 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
   const double min_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
   FacingSurfaces f;
   for (const SurfaceTouch& t : touches) {
+    if (t.support) continue;
     const double facing = t.normal.dot(n);
     const double s = (t.point - center).dot(n);
     const bool above = facing <= -min_cosine && s > 0.0, below = facing >= min_cosine && s < 0.0;
@@ -274,7 +278,7 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
 
 }  // namespace
 
-void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
+bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness) {
   FacingSurfaces f = facing_surfaces(touches, patch.center, patch.R.col(2));
   if (f.above.empty() || f.below.empty()) {
@@ -282,16 +286,17 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
     // edge joined the cluster; in a carried pinch it tilted 23° and the box, left thinner and
     // askew between the pads, let them close and the sheet go): then look for the faces about
     // the touches' own median direction (their normals each turned to the patch's side).
-    if (touches.empty()) return;
     std::array<std::vector<double>, 3> turned;
     for (const SurfaceTouch& t : touches) {
+      if (t.support) continue;
       const Vec3 m = t.normal.dot(patch.R.col(2)) >= 0.0 ? t.normal : Vec3(-t.normal);
       for (int k = 0; k < 3; ++k) turned[static_cast<std::size_t>(k)].push_back(m[k]);
     }
+    if (turned[0].empty()) return false;
     const Vec3 m = median_direction(turned);
-    if (m.squaredNorm() == 0.0) return;
+    if (m.squaredNorm() == 0.0) return false;
     f = facing_surfaces(touches, patch.center, m);
-    if (f.above.empty() || f.below.empty()) return;
+    if (f.above.empty() || f.below.empty()) return false;
   }
   // Turn the box to the surfaces' mean plane: the plane fitted to crumpled cloth in a pinch tilts
   // by up to 20°, and the corners of a tilted box sink millimetres deep into a finger, which
@@ -310,6 +315,33 @@ void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
   patch.center += shift;
   patch.linear_velocity += patch.angular_velocity.cross(shift);
   patch.size.z() = thickness;
+  return true;
+}
+
+bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, double thickness) {
+  std::array<std::vector<double>, 3> normals;
+  for (const SurfaceTouch& t : touches)
+    if (t.support)
+      for (int k = 0; k < 3; ++k) normals[static_cast<std::size_t>(k)].push_back(t.normal[k]);
+  if (normals[0].empty()) return false;
+  const Vec3 n = median_direction(normals);
+  if (n.squaredNorm() == 0.0) return false;
+  const double facing_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
+  const double pressing_cosine = std::cos(kPressingDeg * std::numbers::pi / 180.0);
+  std::vector<double> below;
+  bool pressed = false;
+  for (const SurfaceTouch& t : touches) {
+    const double s = (t.point - patch.center).dot(n), facing = t.normal.dot(n);
+    if (t.support && facing >= facing_cosine && s < 0.0) below.push_back(s);
+    pressed = pressed || (!t.support && facing <= -pressing_cosine && s > 0.0);
+  }
+  if (!pressed || below.empty()) return false;
+  patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
+  const Vec3 shift = (median(below) + 0.5 * thickness) * n;
+  patch.center += shift;
+  patch.linear_velocity += patch.angular_velocity.cross(shift);
+  patch.size.z() = thickness;
+  return true;
 }
 
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,

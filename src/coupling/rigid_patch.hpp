@@ -55,6 +55,7 @@ RigidPatch build_patch(std::span<const PatchVertex> vertices, std::span<const in
 struct SurfaceTouch {
   Vec3 point{Vec3::Zero()};
   Vec3 normal{Vec3::UnitZ()};
+  bool support{false};  ///< a body no controller drives (a table), which the cloth lies on
 };
 
 /// Centres the patch between the rigid surfaces its cloth touches on both sides (two fingers
@@ -66,10 +67,26 @@ struct SurfaceTouch {
 /// to the patch's side) and then centred on the median offset of each side (a finger's flank
 /// beside the pad is outvoted). When no surface faces the patch's normal on one side, the same
 /// is tried about the median of all the touches' normals (a plane fitted to cloth bent round a
-/// pad's edge can tilt more than 20°). A patch touched on one side only, or none, is left as it
-/// is.
-void centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
+/// pad's edge can tilt more than 20°). Supports (SurfaceTouch::support) are left out: a cloth
+/// pressed onto a table lies on it (lay_on_support). A patch touched on one side only, or none, is
+/// left as it is. Returns whether it was centred.
+bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
+
+/// Lays a patch that centre_between_surfaces left alone on the support its cloth lies on (a body
+/// no controller drives: a table), when a driven body presses the cloth toward it, its surface
+/// normal within 70° of the support's reversed (a finger's pad or a thumb's rounded tip): the box
+/// turns to the support's normal (the median of its touches') and spans `thickness` from the
+/// support's surface: a layer pressed there takes one repulsion thickness, not the two of a layer
+/// floating between two fingers (the body rests within the reach of the cloth, which its repulsion
+/// squeezes onto the support: a napkin under a resting box, from 3.9 mm above the table to 0.1).
+/// Centred between a thumb and the table as between two fingers, the box held the thumb
+/// two thicknesses up, beyond the reach of the cloth lying on the table: the patch was gone at the
+/// next step and the thumb, sprung back by its joints, fell through the cloth. Tilted to the
+/// fitted cloth and centred on it, as when the thumb's normal was too far from the table's, the
+/// box sank half into the table and the thumb, meeting a sloped face, pushed it aside. Returns
+/// whether it did.
+bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, double thickness);
 
 /// Joins clusters of one cloth that are pressed from opposite sides into one stack (a fold or
 /// several layers of cloth between two fingers). `touches[c]` are the rigid surfaces touching

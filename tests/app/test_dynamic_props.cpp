@@ -2,6 +2,8 @@
 /// patches, as on hands and grippers (paper §5).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cli_runner.hpp"
 
 using namespace dexcloth::test;
@@ -16,24 +18,30 @@ nlohmann::json run_box(const std::string& name, const std::string& args = "") {
 }  // namespace
 
 TEST(DynamicProps, ABoxOnAClothOnATableRestsOnTheCloth) {
-  // Box half-height 25 mm, cloth at 4 mm: resting on the cloth's repulsion layer puts the box
-  // centre near 35 mm; on the bare table it would be at 25 mm, through the cloth. Where it
-  // settles varies with rounding alone: by OpenBLAS kernel (OPENBLAS_CORETYPE) its lowest is
-  // 33.4 mm with this machine's default and with Sandybridge, 32.97 mm with Cooperlake or
-  // SkylakeX (at 0.76 s); its last 33.4–34.9 mm (32.5 lowest, 34.2 last, with any kernels, since
-  // the flat-edge pairs went). Required: above 31 mm, 6 mm clear of the table.
+  // Box half-height 25 mm on a napkin lying 4 mm above the table: the napkin keeps the box one
+  // repulsion thickness (5 mm) above the table, through a rigid cloth patch laid on the table
+  // (lay_on_support); on the bare table its centre would be at 25 mm, through the napkin. The box
+  // squeezes the napkin onto the table and settles at 29.98–30.01 mm from 0.2 s on, with any
+  // OpenBLAS kernels (this machine's, OpenBLAS's own choice, Sandybridge, Cooperlake). Until
+  // 5 Dec the table counted as a second finger: a patch two thicknesses thick, centred between
+  // box and table, held the box 32.5–34.4 mm up, mostly beyond the napkin's reach, so it bobbed
+  // by 1.9 mm; required now: still to a tenth of a millimetre.
   const auto s = run_box("box_on_cloth");
   expect_intact(s);
+  double low = 1.0, high = 0.0;
   for (const auto& row : s["probes"]["box"]) {
-    EXPECT_GT(row[3].get<double>(), 0.031) << "t " << row[0];
-    EXPECT_LT(row[3].get<double>(), 0.037) << "t " << row[0];
+    EXPECT_GT(row[3].get<double>(), 0.0295) << "t " << row[0];
+    EXPECT_LT(row[3].get<double>(), 0.0355) << "t " << row[0];
     EXPECT_NEAR(row[1].get<double>(), 0.0, 1e-3);
     EXPECT_NEAR(row[2].get<double>(), 0.0, 1e-3);
+    if (row[0].get<double>() >= 0.2) {
+      low = std::min(low, row[3].get<double>());
+      high = std::max(high, row[3].get<double>());
+    }
   }
-  // The cloth vertex under the box's centre lies on the diagonals of the table's top and of the
-  // box's bottom, whose faces also met it along tilted normals until pairs ending on such flat
-  // edges were left out: it dips to 1.68 mm as the box lands (2.85 mm before) and rests at 3.9.
-  for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0015);
+  EXPECT_LT(high - low, 1e-4);
+  // The napkin under the box's centre stays above the table (0.06 mm from 0.1 s on).
+  for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0);
 }
 
 TEST(DynamicProps, TheKinematicBaselineLetsTheBoxSinkThroughTheCloth) {

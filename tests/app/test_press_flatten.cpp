@@ -19,7 +19,12 @@ CliRun run(const std::string& name, const std::string& args = "") {
 TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   const CliRun r = run("press_flatten");
   const auto frames = cloth_frames(r.out);
-  EXPECT_FALSE(r.summary["nan"].get<bool>());
+  // No intersecting pair on the way. Until 5 Dec the thumb, reaching the table first, came down
+  // through the cloth lying there (patches centred between it and the table as between two
+  // fingers, or tilted into the table): pairs in 10 of 28 runs (fourteen starts as below, with
+  // OPENBLAS_CORETYPE=Haswell and unset), 54 in the scene's own start; now in none
+  // (README, press_flatten: patches against the table).
+  expect_intact(r.summary);
   // Crumpled before the hand arrives: a heap 3.5–7 cm high, 1.3–2.1 cm on average over six
   // starts shifted 0.5 mm or turned 1–2° (one flat layer lies at 5 mm, the repulsion
   // thickness).
@@ -47,9 +52,8 @@ TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   // with the surface of the thumb's capsule buried in the pad box on it, and impacts of cloth
   // that started micrometres inside the thumb oriented into it (README, press_flatten). Over
   // fourteen starts (the scene's; shifted 0.5 and 1 mm in ±x, ±0.5 mm and 1 mm in y; turned
-  // ±1, ±2, ±3°; OPENBLAS_CORETYPE=Haswell) and seven of them with OpenBLAS's own kernels the
-  // napkin now ends with a mean height of 5.0–16.2 mm and its highest vertex 0.5–7.1 cm up (a
-  // flap standing on the heap).
+  // ±1, ±2, ±3°), with OPENBLAS_CORETYPE=Haswell and unset, the napkin now ends with a mean
+  // height of 5.0–15.5 mm and its highest vertex 0.5–5.7 cm up (a flap standing on the heap).
   const Heights end = heights_at(frames, 3.6);
   EXPECT_LT(end.max, 0.09);
   EXPECT_LT(end.mean, 0.025);

@@ -291,3 +291,86 @@ TEST(RigidPatch, VerticesAlongALineTakeTheirNormalAboutIt) {
   EXPECT_NEAR(std::abs(p.R.col(0).dot(Vec3::UnitX())), 1.0, 1e-9);  // the long side along x
   EXPECT_NEAR(p.size.x(), 0.015, 1e-12);
 }
+
+namespace {
+
+/// A rounded fingertip's touch at `c` + `offset`, its surface normal (toward the cloth) turned
+/// `degrees` about y from straight down.
+SurfaceTouch fingertip(const Vec3& c, const Vec3& offset, double degrees) {
+  return {c + offset,
+          Vec3(-(Eigen::AngleAxisd(degrees * M_PI / 180.0, Vec3::UnitY()) * Vec3::UnitZ()))};
+}
+
+/// The table's touches 2 mm below `c` (a support: no controller drives it).
+std::vector<SurfaceTouch> table_below(const Vec3& c) {
+  std::vector<SurfaceTouch> touches;
+  for (int k = 0; k < 3; ++k)
+    touches.push_back({c + Vec3(0.004 * k, 0.0, -0.002), Vec3::UnitZ(), true});
+  return touches;
+}
+
+}  // namespace
+
+TEST(RigidPatch, AClothPressedOntoATableByAFingerIsNotCentredBetweenThemAsBetweenTwoFingers) {
+  // A pad facing the table 3 mm above the cloth, which lies 2 mm up: as two fingers these would
+  // make a 10.4 mm box centred between them, holding the pad two thicknesses over the table.
+  RigidPatch p = lattice_patch();
+  const Vec3 c0 = p.center;
+  std::vector<SurfaceTouch> touches = table_below(c0);
+  touches.push_back({c0 + Vec3(0.004, 0.0, 0.003), -Vec3::UnitZ()});
+  EXPECT_FALSE(centre_between_surfaces(p, touches, 0.0104));
+  EXPECT_NEAR((p.center - c0).norm(), 0.0, 1e-15);
+  // Laid on the table instead: from its surface (2 mm below the cloth) up 5.2 mm.
+  ASSERT_TRUE(lay_on_support(p, touches, 0.0052));
+  const auto [bottom, top] = faces(p);
+  EXPECT_NEAR(bottom, c0.z() - 0.002, 1e-12);
+  EXPECT_NEAR(top, c0.z() + 0.0032, 1e-12);
+  EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
+  // Two driven fingers still centre it between them, the table's touches aside.
+  RigidPatch q = lattice_patch();
+  touches.push_back({c0 + Vec3(0.004, 0.002, -0.0045), Vec3::UnitZ()});
+  ASSERT_TRUE(centre_between_surfaces(q, touches, 0.0104));
+  const auto [q_bottom, q_top] = faces(q);
+  EXPECT_NEAR(0.5 * (q_top + q_bottom), c0.z() - 0.00075, 1e-12);
+}
+
+TEST(RigidPatch, AClothThatAThumbTipPressesOntoATableLiesFlatOnTheTable) {
+  // The cloth's fitted plane tilted 35° (bent round the thumb's rounded tip, whose surface
+  // normals are 50° from straight down): the box turns to the table, not to the cloth or the
+  // thumb, and lies on it. Fitted and centred on the cloth, a tilted box sank a corner 5 mm into
+  // the table and the thumb pushed it aside.
+  RigidPatch p = tilted_patch(35.0);
+  const Vec3 c0 = p.center, v0 = p.linear_velocity;
+  std::vector<SurfaceTouch> touches = table_below(c0);
+  touches.push_back(fingertip(c0, Vec3(0.002, 0, 0.003), 50.0));
+  touches.push_back(fingertip(c0, Vec3(0.006, 0, 0.004), 45.0));
+  ASSERT_FALSE(centre_between_surfaces(p, touches, 0.0104));
+  ASSERT_TRUE(lay_on_support(p, touches, 0.0052));
+  EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
+  const auto [bottom, top] = faces(p);
+  EXPECT_NEAR(bottom, c0.z() - 0.002, 1e-12);
+  EXPECT_NEAR(top - bottom, 0.0052, 1e-12);
+  EXPECT_NEAR((p.linear_velocity - v0).norm(), 0.0, 1e-12);  // not rotating: same velocity
+}
+
+TEST(RigidPatch, AFingerBesideTheClothOrATableAloneDoesNotLayItOnTheTable) {
+  RigidPatch p = lattice_patch();
+  const Vec3 c0 = p.center;
+  const std::vector<SurfaceTouch> table = table_below(c0);
+  // A finger's side, its normal 80° from straight down: it pushes the cloth along the table,
+  // not onto it.
+  std::vector<SurfaceTouch> side = table;
+  side.push_back(fingertip(c0, Vec3(-0.003, 0, 0.001), 80.0));
+  EXPECT_FALSE(lay_on_support(p, side, 0.0052));
+  // Only the table, or a finger only (no support).
+  EXPECT_FALSE(lay_on_support(p, table, 0.0052));
+  const std::vector<SurfaceTouch> finger{{c0 + Vec3(0, 0, 0.003), -Vec3::UnitZ()}};
+  EXPECT_FALSE(lay_on_support(p, finger, 0.0052));
+  EXPECT_NEAR((p.center - c0).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(p.size.z(), 0.010, 1e-15);
+  // The same finger at 60° does press it.
+  std::vector<SurfaceTouch> pressing = table;
+  pressing.push_back(fingertip(c0, Vec3(-0.003, 0, 0.002), 60.0));
+  EXPECT_TRUE(lay_on_support(p, pressing, 0.0052));
+}
