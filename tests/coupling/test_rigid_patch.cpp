@@ -337,8 +337,8 @@ TEST(RigidPatch, AClothPressedOntoATableByAFingerIsNotCentredBetweenThemAsBetwee
 TEST(RigidPatch, AClothThatAThumbTipPressesOntoATableLiesFlatOnTheTable) {
   // The cloth's fitted plane tilted 35° (bent round the thumb's rounded tip, whose surface
   // normals are 50° from straight down): the box turns to the table, not to the cloth or the
-  // thumb, and lies on it. Fitted and centred on the cloth, a tilted box sank a corner 5 mm into
-  // the table and the thumb pushed it aside.
+  // thumb, and lies on it. Fitted and centred on the cloth, a tilted box sank half into the
+  // table and the thumb pushed it aside.
   RigidPatch p = tilted_patch(35.0);
   const Vec3 c0 = p.center, v0 = p.linear_velocity;
   std::vector<SurfaceTouch> touches = table_below(c0);
