@@ -48,6 +48,11 @@ TEST(GripperLayers, StackHeldAboveThreeTimesTheSingleThreshold) {
   }
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(s["nan"], false);
+  // No warning: until 5 Dec one friction NCP warning at step 132 (here, and at the scene's own
+  // 2 N* with all four OpenBLAS kernel choices), a middle-strip vertex barely touching its
+  // neighbours (normal forces 4e-13 N, slips 1e-14 m/s) whose answer missed at its whole,
+  // negligible force scale.
+  EXPECT_EQ(s["warnings_total"], 0) << s["warnings"];
 }
 
 TEST(GripperLayers, StackDropsBelowTheThreshold) {
