@@ -42,13 +42,13 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const Wo
     for (int g = first; g < end; ++g) {
       const ContactGroup& group = groups[static_cast<std::size_t>(g)];
       if (group.other_mesh < cloth_meshes || group.other_vertices[0] < 0) continue;
-      const Points& x = data.rigid.meshes[static_cast<std::size_t>(group.other_mesh - cloth_meshes)].x;
+      const auto body = static_cast<std::size_t>(group.other_mesh - cloth_meshes);
+      const Points& x = data.rigid.meshes[body].x;
       Vec3 point = Vec3::Zero();
       for (int j = 0; j < 3; ++j)
         if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
-      const auto body = static_cast<std::size_t>(group.other_mesh - cloth_meshes);
       out.push_back({point, group.normal, !data.rigid.mesh_coupled[body]});
     }
   }

@@ -276,6 +276,14 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
   return f;
 }
 
+/// Moves the box by `shift`, its centre's velocity following the fitted motion, and makes it
+/// `thickness` thick.
+void shift_box(RigidPatch& patch, const Vec3& shift, double thickness) {
+  patch.center += shift;
+  patch.linear_velocity += patch.angular_velocity.cross(shift);
+  patch.size.z() = thickness;
+}
+
 }  // namespace
 
 bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
@@ -311,10 +319,7 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
   }
   // The median on each side is the finger pad's face when the cloth also brushes the finger's
   // rounded flank around the pad.
-  const Vec3 shift = 0.5 * (median(f.above) + median(f.below)) * n;
-  patch.center += shift;
-  patch.linear_velocity += patch.angular_velocity.cross(shift);
-  patch.size.z() = thickness;
+  shift_box(patch, 0.5 * (median(f.above) + median(f.below)) * n, thickness);
   return true;
 }
 
@@ -337,10 +342,7 @@ bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, do
   }
   if (!pressed || below.empty()) return false;
   patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
-  const Vec3 shift = (median(below) + 0.5 * thickness) * n;
-  patch.center += shift;
-  patch.linear_velocity += patch.angular_velocity.cross(shift);
-  patch.size.z() = thickness;
+  shift_box(patch, (median(below) + 0.5 * thickness) * n, thickness);
   return true;
 }
 
