@@ -28,6 +28,9 @@ struct ContactGroup {
   Vec3 other_weights{Vec3::Zero()};
   double record_weight{};            ///< weight of that record
   double friction_share{1.0};        ///< that record's VertexContact::friction_share
+  /// Found ahead of a fast body (speculative_touches.hpp): the cloth's end-of-step position
+  /// against the body's predicted pose, for the patches only (other_vertices index that pose).
+  bool speculative{false};
 };
 
 /// End of the run of groups of the vertex whose first group is `first` (group_contacts keeps

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "coupling/speculative_touches.hpp"
+
 namespace dexcloth::coupling {
 
 void vertex_normals(const Triangles& faces, const Points& x, Points& normals) {
@@ -32,24 +34,31 @@ namespace {
 constexpr double kPinchMargin = 0.01;
 
 /// The rigid surface points (at the rigid bodies' current poses) and normals touching the cloth
-/// vertices of one cluster, from their contact groups' heaviest records, into `out`.
-void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const WorldData& data,
+/// vertices of one cluster, from their contact groups' heaviest records, into `out`. A
+/// speculative touch is where its fast body's surface is predicted at the start of its last
+/// DART substep (`last_substep` [s] before the step's end), pressed in by `press` [m]: a box
+/// reaching there meets the body within the step, and DART stops it.
+void surface_touches(const std::vector<int>& cluster, const std::vector<ContactGroup>& groups,
+                     int cloth_meshes, double last_substep, double press, const WorldData& data,
                      std::vector<SurfaceTouch>& out) {
   out.clear();
-  const std::vector<ContactGroup>& groups = data.interface.groups;
   for (int k : cluster) {
     const auto [first, end] = data.patch_vertex_groups[static_cast<std::size_t>(k)];
     for (int g = first; g < end; ++g) {
       const ContactGroup& group = groups[static_cast<std::size_t>(g)];
       if (group.other_mesh < cloth_meshes || group.other_vertices[0] < 0) continue;
       const auto body = static_cast<std::size_t>(group.other_mesh - cloth_meshes);
-      const Points& x = data.rigid.meshes[body].x;
+      // A speculative touch is on the body's predicted pose.
+      const Points& x = group.speculative
+                            ? data.meshes[static_cast<std::size_t>(group.other_mesh)].x1
+                            : data.rigid.meshes[body].x;
       Vec3 point = Vec3::Zero();
       for (int j = 0; j < 3; ++j)
         if (group.other_vertices[static_cast<std::size_t>(j)] >= 0)
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
-      out.push_back({point, group.normal, !data.rigid.mesh_coupled[body]});
+      if (group.speculative) point -= last_substep * group.other_velocity + press * group.normal;
+      out.push_back({point, group.normal, !data.rigid.mesh_coupled[body], group.speculative});
     }
   }
 }
@@ -57,9 +66,9 @@ void surface_touches(const std::vector<int>& cluster, int cloth_meshes, const Wo
 /// The cloth layers of a cluster between two fingers: the cloths it holds vertices of, and the
 /// cloths those vertices touch that have none in it (the middle layers of cloths stacked
 /// between two fingers, which touch no finger).
-int cloth_layers(const std::vector<int>& cluster, int cloth_meshes, const WorldData& data) {
+int cloth_layers(const std::vector<int>& cluster, const std::vector<ContactGroup>& groups,
+                 int cloth_meshes, const WorldData& data) {
   std::vector<char> held(static_cast<std::size_t>(cloth_meshes), 0), touched = held;
-  const std::vector<ContactGroup>& groups = data.interface.groups;
   for (int k : cluster) {
     held[static_cast<std::size_t>(data.patch_vertex_ids[static_cast<std::size_t>(k)].first)] = 1;
     const auto [first, end] = data.patch_vertex_groups[static_cast<std::size_t>(k)];
@@ -80,7 +89,13 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
   pool.deactivate_all();
   data.patches.clear();
   const double h = model.dt;
-  const std::vector<ContactGroup>& groups = data.interface.groups;
+  // The step's contact groups, with the touches ahead of fast bodies when there are any.
+  find_speculative_groups(model, cloth_meshes, data);
+  if (!data.speculative.groups.empty())
+    merge_speculative_groups(data.interface.groups, data.speculative.groups,
+                             data.speculative.merged);
+  const std::vector<ContactGroup>& groups =
+      data.speculative.groups.empty() ? data.interface.groups : data.speculative.merged;
   // Between two bodies (a pinch) DART lets each rest its contact allowance deep in the patch;
   // the patch is thicker by that, less a small margin, so the fingers rest just inside the
   // cloth's two repulsion layers: the vertex stays in contact with both, and the layers barely
@@ -88,6 +103,7 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
   // two repulsions that cannot both be met; it jittered across the gap and crept out of a grip
   // at 1.1 N* (2.5 mm over 1 s); at the layers' edge exactly, its contacts flickered.
   const double allowance = data.rigid.world ? data.rigid.world->contact_allowance() : 0.0;
+  const int substeps = data.rigid.world ? data.rigid.world->substeps() : 1;
   const double pinched_thickness =
       2.0 * model.thickness + 2.0 * (allowance - kPinchMargin * model.thickness);
   int placed = 0;
@@ -135,7 +151,7 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     std::vector<std::vector<SurfaceTouch>>& touches = data.cluster_touches;
     touches.resize(clusters.size());
     for (std::size_t k = 0; k < clusters.size(); ++k)
-      surface_touches(clusters[k], cloth_meshes, data, touches[k]);
+      surface_touches(clusters[k], groups, cloth_meshes, h / substeps, allowance, data, touches[k]);
     const std::vector<int> layers =
         join_facing_clusters(clusters, touches, 4.0 * model.thickness + model.clusters.offset,
                              model.clusters.distance);
@@ -150,7 +166,7 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
       // n layers between two fingers keep n + 1 repulsion thicknesses between them: the cloths
       // of a stack, those between its outer layers that touch no finger included (whether the
       // outer layers clustered apart or together), or the layers of a fold of one cloth.
-      const int cloths = cloth_layers(cluster, cloth_meshes, data);
+      const int cloths = cloth_layers(cluster, groups, cloth_meshes, data);
       const int n = cloths > 1 ? cloths : layers[k];
       // Pressed onto a support (a table) instead, the cloth lies on it and the body rests one
       // repulsion thickness above each layer.

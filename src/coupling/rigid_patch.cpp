@@ -318,8 +318,13 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
     n = patch.R.col(2);
   }
   // The median on each side is the finger pad's face when the cloth also brushes the finger's
-  // rounded flank around the pad.
-  shift_box(patch, 0.5 * (median(f.above) + median(f.below)) * n, thickness);
+  // rounded flank around the pad. A box between surfaces ahead of fast fingers fills the gap
+  // between them.
+  const double above = median(f.above), below = median(f.below);
+  const bool ahead = std::any_of(touches.begin(), touches.end(),
+                                 [](const SurfaceTouch& t) { return t.ahead && !t.support; });
+  shift_box(patch, 0.5 * (above + below) * n,
+            ahead ? std::max(thickness, above - below) : thickness);
   return true;
 }
 
@@ -333,16 +338,21 @@ bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, do
   if (n.squaredNorm() == 0.0) return false;
   const double facing_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
   const double pressing_cosine = std::cos(kPressingDeg * std::numbers::pi / 180.0);
-  std::vector<double> below;
+  std::vector<double> below, ahead;
   bool pressed = false;
   for (const SurfaceTouch& t : touches) {
     const double s = (t.point - patch.center).dot(n), facing = t.normal.dot(n);
     if (t.support && facing >= facing_cosine && s < 0.0) below.push_back(s);
-    pressed = pressed || (!t.support && facing <= -pressing_cosine && s > 0.0);
+    if (t.support || facing > -pressing_cosine || s <= 0.0) continue;
+    pressed = true;
+    if (t.ahead) ahead.push_back(s);
   }
   if (!pressed || below.empty()) return false;
   patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
-  shift_box(patch, (median(below) + 0.5 * thickness) * n, thickness);
+  // Up to the surface ahead of a fast body pressing down, when that is higher.
+  const double bottom = median(below);
+  const double height = ahead.empty() ? thickness : std::max(thickness, median(ahead) - bottom);
+  shift_box(patch, (bottom + 0.5 * height) * n, height);
   return true;
 }
 

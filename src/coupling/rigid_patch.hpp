@@ -56,6 +56,9 @@ struct SurfaceTouch {
   Vec3 point{Vec3::Zero()};
   Vec3 normal{Vec3::UnitZ()};
   bool support{false};  ///< a body no controller drives (a table), which the cloth lies on
+  /// The surface where a fast body is predicted to be at the end of its next step
+  /// (speculative_touches.hpp): the box reaches out to it, so the body stops there.
+  bool ahead{false};
 };
 
 /// Centres the patch between the rigid surfaces its cloth touches on both sides (two fingers
@@ -69,7 +72,9 @@ struct SurfaceTouch {
 /// is tried about the median of all the touches' normals (a plane fitted to cloth bent round a
 /// pad's edge can tilt more than 20°). Supports (SurfaceTouch::support) are left out: a cloth
 /// pressed onto a table lies on it (lay_on_support). A patch touched on one side only, or none, is
-/// left as it is. Returns whether it was centred.
+/// left as it is. When any touch lies ahead of a fast body (SurfaceTouch::ahead), the box fills
+/// the gap between the two sides' medians if that is more than `thickness`, so both fingers meet
+/// it within the step. Returns whether it was centred.
 bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 
@@ -86,6 +91,8 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 /// fitted cloth and centred on it, as when the thumb's normal was too far from the table's, the
 /// box sank half into the table and the thumb, meeting a sloped face, pushed it aside. Returns
 /// whether it did.
+/// A pressing touch ahead of a fast body (SurfaceTouch::ahead) raises the box's top to the
+/// median of those touches when that is higher than `thickness` reaches.
 bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, double thickness);
 
 /// Joins clusters of one cloth that are pressed from opposite sides into one stack (a fold or

@@ -94,6 +94,18 @@ struct RigidSide {
   std::vector<std::uint8_t> mesh_coupled;
 };
 
+/// Scratch of the speculative touches (speculative_touches.hpp), kept between steps.
+struct SpeculativeScratch {
+  std::vector<int> bodies;            ///< the fast bodies' meshes at the last search
+  std::vector<Points> last_velocity;  ///< per body mesh: its vertex velocities a step ago [m/s]
+  std::vector<Points> velocity;       ///< per body mesh: those expected in the next step [m/s]
+  std::vector<collision::CollisionCandidates> candidates;  ///< per cloth: it and those bodies
+  std::vector<collision::CollisionMesh> meshes;  ///< a cloth, then the bodies, as searched
+  std::vector<collision::Proximity> found;
+  std::vector<ContactGroup> groups;  ///< the last search's, sorted by cloth, vertex, body
+  std::vector<ContactGroup> merged;  ///< the step's groups with them (merge_speculative_groups)
+};
+
 /// Everything a step changes.
 struct WorldData {
   std::vector<cloth::ClothState> cloths;  ///< one per WorldModel::cloths
@@ -119,6 +131,7 @@ struct WorldData {
   std::vector<std::pair<int, int>> patch_vertex_groups;  ///< its contact groups [first, end)
   std::vector<std::vector<SurfaceTouch>> cluster_touches;  ///< rigid surfaces touching each
                                                           ///< cluster's cloth
+  SpeculativeScratch speculative;
   Points normals;                       ///< vertex normals scratch
   std::unique_ptr<WorkerPool> pool;     ///< the step's threads when WorldModel::threads > 1
   bool proximities_beside_dynamics{true};  ///< the proximity search's place in the next step

@@ -509,6 +509,7 @@ void detail::WorldImpl::record_contacts(double weight) {
 double RigidWorld::time() const { return m_impl->world->getTime(); }
 double RigidWorld::time_step() const { return m_impl->options.time_step; }
 double RigidWorld::contact_allowance() const { return kContactErrorAllowance; }
+int RigidWorld::substeps() const { return m_impl->options.substeps; }
 long RigidWorld::step_count() const { return m_impl->steps; }
 
 // ---- lookup ------------------------------------------------------------------------------------

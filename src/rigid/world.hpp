@@ -91,6 +91,8 @@ class RigidWorld {
   double time_step() const;   ///< h [s]
   /// Depth a body may rest inside another before the contact pushes it out [m].
   double contact_allowance() const;
+  /// DART steps per step; contacts are found at the start of each.
+  int substeps() const;
   long step_count() const;
 
   // ---- lookup (throw InputRejected naming the skeleton's file when not found) ----------------

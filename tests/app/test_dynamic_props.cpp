@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "cli_runner.hpp"
 
@@ -41,6 +42,30 @@ TEST(DynamicProps, ABoxOnAClothOnATableRestsOnTheCloth) {
   }
   EXPECT_LT(high - low, 1e-4);
   // The napkin under the box's centre stays above the table (0.06 mm from 0.1 s on).
+  for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0);
+}
+
+TEST(DynamicProps, ABoxDroppedFastOntoAClothOnATableLandsOnItWithoutClosingThroughIt) {
+  // Dropped from 6 cm above the table the box lands at about 1 m/s, 5 mm a step: more than the
+  // cloth's repulsion thickness, so no patch lay in its way at the start of the step it arrived
+  // in, and the cloth step then swept its predicted pose through the napkin lying on the table
+  // (impact zones failed, 40 intersecting pairs, until 5 Dec). The patches now also take the
+  // cloth a fast body will reach in the next step (speculative_touches.hpp), and the box stops
+  // on them, then settles as if placed.
+  const auto s = run_box("box_dropped_on_cloth",
+                         "--set /obstacles/1/transform/translation/2=0.085 --duration 0.4");
+  expect_intact(s);
+  for (const auto& w : s["warnings"]) {
+    const std::string message = w["message"].get<std::string>();
+    EXPECT_EQ(message.find("impact zones"), std::string::npos) << message;
+    EXPECT_EQ(message.find("inside bodies"), std::string::npos) << message;
+  }
+  double lowest = 1.0;
+  for (const auto& row : s["probes"]["box"]) {
+    lowest = std::min(lowest, row[3].get<double>());
+    if (row[0].get<double>() >= 0.2) EXPECT_NEAR(row[3].get<double>(), 0.030, 5e-4) << row[0];
+  }
+  EXPECT_GT(lowest, 0.0295);
   for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0);
 }
 

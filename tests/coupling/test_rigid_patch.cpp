@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "coupling/rigid_patch.hpp"
@@ -373,4 +374,54 @@ TEST(RigidPatch, AFingerBesideTheClothOrATableAloneDoesNotLayItOnTheTable) {
   std::vector<SurfaceTouch> pressing = table;
   pressing.push_back(fingertip(c0, Vec3(-0.003, 0, 0.002), 60.0));
   EXPECT_TRUE(lay_on_support(p, pressing, 0.0052));
+}
+
+TEST(RigidPatch, ABoxUnderAFastBodyReachesUpToWhereTheBodyWillBe) {
+  // Speculative touches (SurfaceTouch::ahead) of a body predicted 9 mm above the cloth, which
+  // lies 2 mm above the table: the box lies on the table and reaches up to them, so DART stops
+  // the body there; a touch ahead nearer than the box's own height leaves it as it is.
+  RigidPatch p = lattice_patch();
+  const Vec3 c0 = p.center;
+  std::vector<SurfaceTouch> touches = table_below(c0);
+  for (int k = 0; k < 3; ++k)
+    touches.push_back({c0 + Vec3(0.004 * k, 0.001, 0.009), -Vec3::UnitZ(), false, true});
+  ASSERT_TRUE(lay_on_support(p, touches, 0.0052));
+  auto [bottom, top] = faces(p);
+  EXPECT_NEAR(bottom, c0.z() - 0.002, 1e-12);
+  EXPECT_NEAR(top, c0.z() + 0.009, 1e-12);
+  RigidPatch near = lattice_patch();
+  for (int k = 3; k < 6; ++k) touches[static_cast<std::size_t>(k)].point.z() = c0.z() + 0.001;
+  ASSERT_TRUE(lay_on_support(near, touches, 0.0052));
+  std::tie(bottom, top) = faces(near);
+  EXPECT_NEAR(top - bottom, 0.0052, 1e-12);
+  // The same touches not ahead (a body already there) take the box's own height.
+  RigidPatch now = lattice_patch();
+  for (int k = 3; k < 6; ++k) {
+    touches[static_cast<std::size_t>(k)].point.z() = c0.z() + 0.009;
+    touches[static_cast<std::size_t>(k)].ahead = false;
+  }
+  ASSERT_TRUE(lay_on_support(now, touches, 0.0052));
+  std::tie(bottom, top) = faces(now);
+  EXPECT_NEAR(top - bottom, 0.0052, 1e-12);
+}
+
+TEST(RigidPatch, ABoxBetweenTwoFastFingersFillsTheGapBetweenWhereTheyWillBe) {
+  // Fingers predicted 8 mm above and 7 mm below the cloth: the box fills the 15 mm between them,
+  // centred; predicted closer than the pinch's thickness, the box keeps that thickness.
+  RigidPatch p = lattice_patch();
+  std::vector<SurfaceTouch> touches;
+  for (int k = 0; k < 3; ++k) {
+    touches.push_back({Vec3(0.004 * k, 0, 0.008), -Vec3::UnitZ(), false, true});
+    touches.push_back({Vec3(0.004 * k, 0.01, -0.007), Vec3::UnitZ(), false, true});
+  }
+  ASSERT_TRUE(centre_between_surfaces(p, touches, 0.0104));
+  auto [bottom, top] = faces(p);
+  EXPECT_NEAR(bottom, -0.007, 1e-12);
+  EXPECT_NEAR(top, 0.008, 1e-12);
+  RigidPatch q = lattice_patch();
+  for (SurfaceTouch& t : touches) t.point.z() *= 0.5;
+  ASSERT_TRUE(centre_between_surfaces(q, touches, 0.0104));
+  std::tie(bottom, top) = faces(q);
+  EXPECT_NEAR(top - bottom, 0.0104, 1e-12);
+  EXPECT_NEAR(0.5 * (top + bottom), 0.00025, 1e-12);
 }
