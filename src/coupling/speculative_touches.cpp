@@ -48,11 +48,11 @@ void find_speculative_groups(const WorldModel& model, int cloth_meshes, WorldDat
   SpeculativeScratch& s = data.speculative;
   s.groups.clear();
   const double h = model.dt, thickness = model.thickness;
-  std::vector<int> fast;
-  double fastest = 0.0;
   const std::size_t bodies = data.rigid.meshes.size();
   s.velocity.resize(bodies);
   s.last_velocity.resize(bodies);
+  s.fast.assign(bodies, 0);
+  double fastest = 0.0;
   for (std::size_t m = 0; m < bodies; ++m) {
     const Points& v = data.rigid.meshes[m].v;
     expected_velocity(v, s.last_velocity[m], s.velocity[m]);
@@ -60,21 +60,29 @@ void find_speculative_groups(const WorldModel& model, int cloth_meshes, WorldDat
     if (!data.rigid.mesh_coupled[m] || v.rows() == 0) continue;
     const double speed = s.velocity[m].rowwise().norm().maxCoeff();
     if (h * speed <= kFastStepThicknesses * thickness) continue;
-    fast.push_back(static_cast<int>(m));
+    s.fast[m] = 1;
     fastest = std::max(fastest, speed);
   }
-  if (fast != s.bodies) {  // the searches' meshes change: their trees and topology too
-    for (collision::CollisionCandidates& c : s.candidates) c.reset();
-    s.bodies = fast;
-  }
-  if (fast.empty()) return;
+  if (fastest == 0.0) return;
   const double reach = kReachSteps * h * fastest;
-  s.meshes.resize(1 + fast.size());
-  for (std::size_t k = 0; k < fast.size(); ++k)
-    at_end(data.meshes[static_cast<std::size_t>(cloth_meshes + fast[k])], s.meshes[1 + k]);
+  // A cloth, then every body in its place (empty unless fast, so each keeps its tree and
+  // topology while it stays fast).
+  s.meshes.resize(1 + bodies);
+  for (std::size_t m = 0; m < bodies; ++m) {
+    collision::CollisionMesh& mesh = s.meshes[1 + m];
+    if (s.fast[m]) {
+      at_end(data.meshes[static_cast<std::size_t>(cloth_meshes) + m], mesh);
+    } else {
+      mesh.x0.resize(0, 3);
+      mesh.x1.resize(0, 3);
+      mesh.faces.resize(0, 3);
+      mesh.mass.resize(0);
+      mesh.frozen.clear();
+      mesh.obstacle = true;
+    }
+  }
   if (s.candidates.size() != static_cast<std::size_t>(cloth_meshes))
-    s.candidates =
-        std::vector<collision::CollisionCandidates>(static_cast<std::size_t>(cloth_meshes));
+    s.candidates.resize(static_cast<std::size_t>(cloth_meshes));
   std::vector<const collision::CollisionMesh*> view;
   for (const collision::CollisionMesh& m : s.meshes) view.push_back(&m);
   struct Found {
@@ -90,7 +98,7 @@ void find_speculative_groups(const WorldModel& model, int cloth_meshes, WorldDat
       // Cloth vertex against body face (a body's corner poking between cloth vertices has the
       // faces around it within reach of those vertices too).
       if (p.edge_edge || p.mesh[0] != 0 || p.mesh[1] == 0) continue;
-      const int body = fast[static_cast<std::size_t>(p.mesh[1] - 1)];
+      const int body = p.mesh[1] - 1;
       const Points& v = s.velocity[static_cast<std::size_t>(body)];
       Vec3 velocity = Vec3::Zero();
       for (int j = 1; j < 4; ++j)

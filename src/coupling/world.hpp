@@ -96,11 +96,11 @@ struct RigidSide {
 
 /// Scratch of the speculative touches (speculative_touches.hpp), kept between steps.
 struct SpeculativeScratch {
-  std::vector<int> bodies;            ///< the fast bodies' meshes at the last search
+  std::vector<std::uint8_t> fast;     ///< per body mesh: 1 when searched this step
   std::vector<Points> last_velocity;  ///< per body mesh: its vertex velocities a step ago [m/s]
   std::vector<Points> velocity;       ///< per body mesh: those expected in the next step [m/s]
   std::vector<collision::CollisionCandidates> candidates;  ///< per cloth: it and those bodies
-  std::vector<collision::CollisionMesh> meshes;  ///< a cloth, then the bodies, as searched
+  std::vector<collision::CollisionMesh> meshes;  ///< a cloth, then each body (empty if slow)
   std::vector<collision::Proximity> found;
   std::vector<ContactGroup> groups;  ///< the last search's, sorted by cloth, vertex, body
   std::vector<ContactGroup> merged;  ///< the step's groups with them (merge_speculative_groups)
