@@ -257,6 +257,7 @@ constexpr double kOneSidedShare = 0.8;
 struct FacingSurfaces {
   std::vector<double> above, below;
   std::array<std::vector<double>, 3> normals;  ///< x, y, z components
+  bool ahead{false};  ///< one of them is a touch ahead of a fast body (SurfaceTouch::ahead)
 };
 
 FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3& center,
@@ -270,8 +271,9 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
     const bool above = facing <= -min_cosine && s > 0.0, below = facing >= min_cosine && s < 0.0;
     if (above) f.above.push_back(s);
     if (below) f.below.push_back(s);
-    if (above || below)
-      for (int k = 0; k < 3; ++k) f.normals[k].push_back(above ? -t.normal[k] : t.normal[k]);
+    if (!above && !below) continue;
+    for (int k = 0; k < 3; ++k) f.normals[k].push_back(above ? -t.normal[k] : t.normal[k]);
+    f.ahead = f.ahead || t.ahead;
   }
   return f;
 }
@@ -321,10 +323,8 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
   // rounded flank around the pad. A box between surfaces ahead of fast fingers fills the gap
   // between them.
   const double above = median(f.above), below = median(f.below);
-  const bool ahead = std::any_of(touches.begin(), touches.end(),
-                                 [](const SurfaceTouch& t) { return t.ahead && !t.support; });
   shift_box(patch, 0.5 * (above + below) * n,
-            ahead ? std::max(thickness, above - below) : thickness);
+            f.ahead ? std::max(thickness, above - below) : thickness);
   return true;
 }
 

@@ -72,9 +72,9 @@ struct SurfaceTouch {
 /// is tried about the median of all the touches' normals (a plane fitted to cloth bent round a
 /// pad's edge can tilt more than 20°). Supports (SurfaceTouch::support) are left out: a cloth
 /// pressed onto a table lies on it (lay_on_support). A patch touched on one side only, or none, is
-/// left as it is. When any touch lies ahead of a fast body (SurfaceTouch::ahead), the box fills
-/// the gap between the two sides' medians if that is more than `thickness`, so both fingers meet
-/// it within the step. Returns whether it was centred.
+/// left as it is. When one of the facing surfaces is a touch ahead of a fast body
+/// (SurfaceTouch::ahead), the box fills the gap between the two sides' medians if that is more
+/// than `thickness`, so both fingers meet it within the step. Returns whether it was centred.
 bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 

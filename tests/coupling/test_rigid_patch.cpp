@@ -424,4 +424,16 @@ TEST(RigidPatch, ABoxBetweenTwoFastFingersFillsTheGapBetweenWhereTheyWillBe) {
   std::tie(bottom, top) = faces(q);
   EXPECT_NEAR(top - bottom, 0.0104, 1e-12);
   EXPECT_NEAR(0.5 * (top + bottom), 0.00025, 1e-12);
+  // Fingers already there (not ahead) 15 mm apart, and a fast body coming at the cloth's side:
+  // the box keeps the pinch's thickness, midway.
+  RigidPatch r = lattice_patch();
+  for (SurfaceTouch& t : touches) {
+    t.point.z() *= 2.0;
+    t.ahead = false;
+  }
+  touches.push_back({Vec3(0.025, 0.005, 0.0), -Vec3::UnitX(), false, true});
+  ASSERT_TRUE(centre_between_surfaces(r, touches, 0.0104));
+  std::tie(bottom, top) = faces(r);
+  EXPECT_NEAR(top - bottom, 0.0104, 1e-12);
+  EXPECT_NEAR(0.5 * (top + bottom), 0.0005, 1e-12);
 }
