@@ -63,7 +63,9 @@ TEST(DynamicProps, ABoxDroppedFastOntoAClothOnATableLandsOnItWithoutClosingThrou
   double lowest = 1.0;
   for (const auto& row : s["probes"]["box"]) {
     lowest = std::min(lowest, row[3].get<double>());
-    if (row[0].get<double>() >= 0.2) EXPECT_NEAR(row[3].get<double>(), 0.030, 5e-4) << row[0];
+    if (row[0].get<double>() >= 0.2) {
+      EXPECT_NEAR(row[3].get<double>(), 0.030, 5e-4) << row[0];
+    }
   }
   EXPECT_GT(lowest, 0.0295);
   for (const auto& row : s["probes"]["under"]) EXPECT_GT(row[3].get<double>(), 0.0);
