@@ -55,9 +55,9 @@ void find_speculative_groups(const WorldModel& model, int cloth_meshes, WorldDat
   double fastest = 0.0;
   for (std::size_t m = 0; m < bodies; ++m) {
     const Points& v = data.rigid.meshes[m].v;
+    if (!data.rigid.mesh_coupled[m] || v.rows() == 0) continue;  // DART does not stop these
     expected_velocity(v, s.last_velocity[m], s.velocity[m]);
     s.last_velocity[m] = v;
-    if (!data.rigid.mesh_coupled[m] || v.rows() == 0) continue;
     const double speed = s.velocity[m].rowwise().norm().maxCoeff();
     if (h * speed <= kFastStepThicknesses * thickness) continue;
     s.fast[m] = 1;
@@ -113,7 +113,6 @@ void find_speculative_groups(const WorldModel& model, int cloth_meshes, WorldDat
       g.other_velocity = velocity;
       g.other_vertices = {p.corner[1], p.corner[2], p.corner[3]};
       g.other_weights = Vec3(-p.w[1], -p.w[2], -p.w[3]);
-      g.record_weight = 1.0;
       g.speculative = true;
       found.push_back({g, p.distance});
     }
