@@ -2,7 +2,7 @@
 # Renders the README's side-by-side figures of the paper's scenes: each scene run whole in the
 # bai-liu coupling (left) and the kinematic baseline (right), one frame of each rendered by
 # `dexcloth snapshot` (headless chromium) and put side by side with ffmpeg, into docs/img/.
-#   bash scripts/readme_figures.sh [scene ...]     (default: the five below; needs build/)
+#   bash scripts/readme_figures.sh [scene ...]     (default: the six below; needs build/)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="$here/build/dexcloth"
@@ -13,9 +13,9 @@ trap 'rm -rf "$work"' EXIT
 # from crop-x, leaves out the viewer's info panel)
 declare -A shots=(
   [curtain_hand]=125:290 [dress_sleeve]=170:200 [fold_napkin]=192:200
-  [press_flatten]=180:200 [grab_pile]=155:200)
+  [press_flatten]=180:200 [grab_pile]=155:200 [dress_sleeve_hand]=170:200)
 scenes=("$@")
-[ ${#scenes[@]} -eq 0 ] && scenes=(curtain_hand dress_sleeve fold_napkin press_flatten grab_pile)
+[ ${#scenes[@]} -eq 0 ] && scenes=(curtain_hand dress_sleeve dress_sleeve_hand fold_napkin press_flatten grab_pile)
 
 for scene in "${scenes[@]}"; do
   [ -n "${shots[$scene]:-}" ] || { echo "readme_figures.sh: no shot for '$scene'" >&2; exit 2; }
