@@ -35,9 +35,11 @@ constexpr double kPinchMargin = 0.01;
 
 /// The rigid surface points (at the rigid bodies' current poses) and normals touching the cloth
 /// vertices of one cluster, from their contact groups' heaviest records, into `out`. A
-/// speculative touch is where its fast body's surface is predicted at the start of its last
-/// DART substep (`last_substep` [s] before the step's end), pressed in by `press` [m]: a box
-/// reaching there meets the body within the step, and DART stops it.
+/// speculative touch is on its fast body's predicted pose x + h·v moved back by one DART substep
+/// (`last_substep` [s]) of the body's extrapolated velocity and pressed in by `press` [m]: about
+/// where the body starts its last substep, so a box reaching there meets it within the step and
+/// DART stops it. With one substep that is behind the surface of a body that sped up (by h
+/// times its last change of velocity): the box then overlaps it, and DART holds it where it is.
 void surface_touches(const std::vector<int>& cluster, const std::vector<ContactGroup>& groups,
                      int cloth_meshes, double last_substep, double press, const WorldData& data,
                      std::vector<SurfaceTouch>& out) {

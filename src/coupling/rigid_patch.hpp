@@ -56,8 +56,8 @@ struct SurfaceTouch {
   Vec3 point{Vec3::Zero()};
   Vec3 normal{Vec3::UnitZ()};
   bool support{false};  ///< a body no controller drives (a table), which the cloth lies on
-  /// The surface where a fast body is predicted to be at the end of its next step
-  /// (speculative_touches.hpp): the box reaches out to it, so the body stops there.
+  /// The surface of a fast body ahead of the cloth (speculative_touches.hpp), placed where DART
+  /// is to meet it within its next step (patch_update.cpp): the box reaches out to it.
   bool ahead{false};
 };
 

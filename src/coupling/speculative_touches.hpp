@@ -7,10 +7,11 @@
 /// step) has none in its way when DART moves it; the next cloth step then sweeps its predicted
 /// pose through cloth that cannot get out of the way (lying on a table, or held by another
 /// finger) and the impact zones fail. So, for bodies that move more than half a thickness a
-/// step, the cloth at the end of its step is also searched against the body's predicted pose
-/// (x + h·v) out to the thickness plus 1.5 steps of the body's approach speed; those vertices
-/// join the patches, whose boxes then reach up to the predicted surface (rigid_patch.hpp), so
-/// DART stops the body where the cloth step expected it. They exert no repulsion or friction.
+/// step (its velocity extrapolated by its last change), the cloth at the end of its step is also
+/// searched against the body's predicted pose (x + h·v) out to 1.25 steps of the body's
+/// approach speed; those vertices join the patches, whose boxes then reach out toward that
+/// surface (patch_update.cpp, rigid_patch.hpp), so DART meets the body within its step and stops
+/// it. They exert no repulsion or friction.
 #include <vector>
 
 #include "coupling/world.hpp"
