@@ -4,7 +4,9 @@
 ///   BM_ClothAssembly  building A·Δv = b only (element Hessians, scatter, constraints),
 ///   BM_ClothSolve     the linear solve only, warm-started from the previous step's Δv, by the
 ///                     model's default (sparse Cholesky) and, with a third argument 1, by the
-///                     block-Jacobi PCG (LinearSolver::pcg);
+///                     block-Jacobi PCG (LinearSolver::pcg), with 2 by the Cholesky factor in
+///                     single precision refined in double (SolverSettings::factor_precision;
+///                     its counter pcg_iterations then counts the solves);
 ///   BM_ClothSubstitution  the forward and back substitution of that solve alone, through the
 ///                     factor of the step's matrix;
 ///   BM_ClothSolveIncompleteCholesky  the same solve by conjugate gradient preconditioned with
@@ -100,6 +102,7 @@ void BM_ClothAssembly(benchmark::State& bench) {
 void BM_ClothSolve(benchmark::State& bench) {
   PinnedSheet s(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)));
   if (bench.range(2) == 1) s.model.solver.linear_solver = cloth::LinearSolver::pcg;
+  if (bench.range(2) == 2) s.model.solver.factor_precision = cloth::Precision::single_precision;
   cloth::DynamicsWorkspace& ws = s.state.scratch.get();
   cloth::assemble_system(s.model, s.state, kStep, s.gravity, s.pins, ws);
   // Every solve starts from the same warm start: the previous step's Δv (copy included in time,
@@ -273,6 +276,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 void solve_sizes(benchmark::internal::Benchmark* b) {
   for (const int threads : {1, 2}) {
     for (const int n : {33, 65, 129}) b->Args({n, threads, 0});
+    for (const int n : {33, 65, 129}) b->Args({n, threads, 2});
   }
   for (const int n : {33, 65, 129}) b->Args({n, 1, 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -29,18 +29,19 @@ void prepare(const ClothModel& model, DynamicsWorkspace& ws) {
 
 }  // namespace
 
-void analyse(const SystemPattern& p, std::span<const int> order, int threads, DirectSystem& d) {
+void analyse(const SystemPattern& p, std::span<const int> order, int threads, DirectSystem& d,
+             Precision precision) {
   const auto nv = static_cast<std::size_t>(p.num_vertices);
   DEXCLOTH_DEMAND(order.size() == nv);
   std::vector<int> dofs(3 * nv);
   for (std::size_t k = 0; k < nv; ++k)
     for (int c = 0; c < 3; ++c) dofs[3 * k + static_cast<std::size_t>(c)] = 3 * order[k] + c;
-  analyse_unknowns(p, dofs, threads, d);
+  analyse_unknowns(p, dofs, threads, d, precision);
   d.order.assign(order.begin(), order.end());
 }
 
 void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int threads,
-                      DirectSystem& d) {
+                      DirectSystem& d, Precision precision) {
   const int n = 3 * p.num_vertices;
   DEXCLOTH_DEMAND(dofs.size() == static_cast<std::size_t>(n));
   d.order.clear();
@@ -71,7 +72,7 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
     }
     d.col_start.push_back(static_cast<int>(d.row.size()));
   }
-  d.cholesky.analyze(n, d.col_start, d.row, threads);
+  d.cholesky.analyze(n, d.col_start, d.row, threads, precision);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
@@ -345,7 +346,9 @@ void constraint_impulses(const ClothModel& model, std::span<const VelocityConstr
 /// Direct solve into ws.dv; returns the report.
 DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   DirectSystem& d = ws.direct;
-  if (d.order.empty()) analyse(model.pattern, model.pattern.fill_order, model.solver.threads, d);
+  const SolverSettings& solver = model.solver;
+  if (d.order.empty() || d.cholesky.precision() != solver.factor_precision)
+    analyse(model.pattern, model.pattern.fill_order, solver.threads, d, solver.factor_precision);
   DynamicsReport report = factorise(ws.blocks, d);
   if (!report.ok) return report;
   // Solve in the permuted order.
@@ -364,6 +367,34 @@ double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
   ws.work -= ws.rhs;
   const double b_norm = ws.rhs.norm();
   return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);
+}
+
+/// Iterative refinement of ws.dv in double (a single-precision factor's solve): Δv += A⁻¹·r
+/// through the factor, r = b − A·Δv, until the relative residual is below the settings'
+/// refine_tolerance or stalls. Returns the residual reached; counts the extra solves in
+/// `rounds`.
+double refine_direct(const ClothModel& model, DynamicsWorkspace& ws, double residual, int& rounds) {
+  const SolverSettings& solver = model.solver;
+  const DirectSystem& d = ws.direct;
+  const auto n = static_cast<std::size_t>(ws.rhs.size());
+  ws.correction.resize(ws.rhs.size());
+  for (rounds = 0; residual > solver.refine_tolerance && rounds < solver.max_refinements;
+       ++rounds) {
+    for (std::size_t k = 0; k < n; ++k)
+      ws.correction[static_cast<Eigen::Index>(k)] = -ws.work[d.dof[k]];
+    d.cholesky.solve_in_place(std::span<double>(ws.correction.data(), n));
+    for (std::size_t k = 0; k < n; ++k)
+      ws.dv[d.dof[k]] += ws.correction[static_cast<Eigen::Index>(k)];
+    const double last = residual;
+    residual = direct_residual(model, ws);
+    if (residual > last) {  // rounding: keep the better one
+      for (std::size_t k = 0; k < n; ++k)
+        ws.dv[d.dof[k]] -= ws.correction[static_cast<Eigen::Index>(k)];
+      residual = last;
+    }
+    if (residual > last / kRefinementGain) break;
+  }
+  return residual;
 }
 
 /// v̄ = v + Δv; constrained vertices take their prescribed velocity exactly in their constrained
@@ -471,6 +502,11 @@ DynamicsReport solve_system(const ClothModel& model,
     report = solve_direct(model, ws);
     if (!report.ok) return report;
     report.residual = direct_residual(model, ws);
+    if (settings.factor_precision == Precision::single_precision) {
+      int rounds = 0;
+      report.residual = refine_direct(model, ws, report.residual, rounds);
+      report.iterations += rounds;
+    }
   } else {
     if (!ws.pcg_ready) {
       ws.pcg.resize(model.num_vertices());

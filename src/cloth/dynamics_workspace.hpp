@@ -47,6 +47,7 @@ struct DynamicsWorkspace {
   Eigen::VectorXd rhs;            ///< 3|V| right-hand side
   Eigen::VectorXd dv;             ///< 3|V| velocity change (PCG warm start)
   Eigen::VectorXd work;           ///< 3|V| scratch (residual, permuted vectors)
+  Eigen::VectorXd correction;     ///< 3|V| scratch: a refinement's correction of Δv
   std::vector<char> constrained;  ///< |V| flags of velocity-constrained vertices
   std::vector<Mat3> saved_rows;   ///< constrained rows' blocks A(i, j) before elimination
   std::vector<Vec3> saved_rhs;    ///< constrained rows' right-hand sides before elimination
@@ -81,6 +82,9 @@ struct DynamicsWorkspace {
   Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton
   Eigen::MatrixXd schur_Sxx, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
   Eigen::VectorXd schur_c, schur_cx, schur_zr, schur_tail;
+  // Refinement of a single-precision factor's solve: Δv before the round, its correction, zero
+  // (3|V| each); friction gradients at the correction's start, and zero (q each).
+  Eigen::VectorXd schur_base, schur_delta, schur_zero, schur_g0, schur_x0;
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
   // Assembly in pieces, on several threads (no pool for one), or ahead of the solve.
   std::vector<AssemblyPart> assembly_parts;
@@ -100,12 +104,12 @@ void split_assembly(const ClothModel& model, int pieces, DynamicsWorkspace& ws);
 
 /// Gathers the system's upper triangle in the vertex elimination `order` and analyses it for
 /// factorisations on `threads` threads.
-void analyse(const SystemPattern& pattern, std::span<const int> order, int threads,
-             DirectSystem& d);
+void analyse(const SystemPattern& pattern, std::span<const int> order, int threads, DirectSystem& d,
+             Precision precision = Precision::double_precision);
 /// The same in an elimination order of the scalar unknowns: `dofs[k]` = 3v + c is unknown c of
 /// vertex v, eliminated k-th (a permutation of 0 .. 3|V| − 1). d.order is left empty.
 void analyse_unknowns(const SystemPattern& pattern, std::span<const int> dofs, int threads,
-                      DirectSystem& d);
+                      DirectSystem& d, Precision precision = Precision::double_precision);
 
 /// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
 /// failed.
@@ -114,6 +118,10 @@ DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d);
 /// A sliding vertex's slip has settled (Newton's Hessian is used) when it turned by less than
 /// acos(0.9) ≈ 26° since the last iteration.
 constexpr double kSettledCos = 0.9;
+
+/// Iterative refinement of a single-precision factor's solves stops when a round reduces the
+/// residual by less than this factor (rounding reached; a float factor gains ~1e3 a round).
+constexpr double kRefinementGain = 10.0;
 
 /// The projector onto a velocity constraint's free directions.
 Mat3 free_projector(const VelocityConstraint& c);

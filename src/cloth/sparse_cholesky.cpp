@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "cloth/blas.hpp"
 #include "core/assert.hpp"
@@ -19,7 +20,11 @@ Index at(int i) { return static_cast<Index>(i); }
 constexpr std::size_t kParallelSolveEntries = 400'000;
 
 /// A supernode's panel of L (front rows × columns, column-major).
-using Panel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+template <class T>
+using Panel =
+    Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>, 0, Eigen::OuterStride<>>;
+template <class T>
+using VectorMap = Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>>;
 
 /// Elimination tree (Liu's algorithm, path compression through `ancestor`) of the upper
 /// pattern (column k: rows i ≤ k).
@@ -121,8 +126,9 @@ bool relaxed_merge_pays(int columns, double zero_share) {
 }  // namespace
 
 void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row,
-                             int threads) {
+                             int threads, Precision precision) {
   DEXCLOTH_DEMAND(threads >= 1);
+  m_precision = precision;
   if (threads == 1) {
     m_pool.reset();
   } else if (!m_pool || m_pool->threads() != threads) {
@@ -275,10 +281,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
             {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
     m_entry_start.push_back(m_entries.size());
   }
-  // Buffers are only sized, their contents neither kept nor zeroed (every factorisation writes
-  // what it reads; zeroing the last analysis's ~14 MB of panels took a third of pinch_move's
-  // re-analyses, and a vector's copy and zero-fill on growing another third).
-  m_panel.resize(m_panel_start.back());
   schedule(sparent, work, max_update);
 }
 
@@ -385,10 +387,54 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
   };
   for (const std::vector<int>& order : m_task_order) place(order);
   place(m_top_order);
-  m_stack.resize(base);
-  m_front.resize(at(threads));
-  for (ScratchArray& front : m_front) front.resize(max_update);
+  m_stack_size = base;
   m_failure.assign(at(threads), -1);
+  size_buffers(max_update);
+}
+
+template <class T>
+SparseCholesky::Numeric<T>& SparseCholesky::numeric() {
+  if constexpr (std::is_same_v<T, float>) {
+    return m_single;
+  } else {
+    return m_double;
+  }
+}
+
+template <class T>
+const SparseCholesky::Numeric<T>& SparseCholesky::numeric() const {
+  if constexpr (std::is_same_v<T, float>) {
+    return m_single;
+  } else {
+    return m_double;
+  }
+}
+
+void SparseCholesky::size_buffers(std::size_t max_update) {
+  const int threads = m_pool ? m_pool->threads() : 1;
+  // Only sized, the contents neither kept nor zeroed (every factorisation writes what it reads;
+  // zeroing the last analysis's ~14 MB of panels took a third of pinch_move's re-analyses, and
+  // a vector's copy and zero-fill on growing another third).
+  const auto size = [&](auto& numeric) {
+    numeric.panel.resize(m_panel_start.back());
+    numeric.stack.resize(m_stack_size);
+    numeric.front.resize(at(threads));
+    for (auto& front : numeric.front) front.resize(max_update);
+    numeric.deferred.resize(m_deferred_start.back());
+    numeric.gather.resize(at(threads));
+    numeric.product.resize(at(threads));
+    for (auto& v : numeric.gather) v.resize(at(m_n));
+    for (auto& v : numeric.product) v.resize(at(m_n));
+    numeric.x.resize(at(m_n));
+  };
+  const auto release = [](auto& numeric) { numeric = {}; };
+  if (m_precision == Precision::single_precision) {
+    size(m_single);
+    release(m_double);
+  } else {
+    size(m_double);
+    release(m_single);
+  }
 }
 
 void SparseCholesky::schedule_solves(const std::vector<char>& in_top) {
@@ -417,28 +463,25 @@ void SparseCholesky::schedule_solves(const std::vector<char>& in_top) {
     }
     m_deferred_start[at(s) + 1] = m_deferred_start[at(s)] + at(top_rows);
   }
-  m_deferred.resize(m_deferred_start.back());
-  m_gather.resize(at(threads));
-  m_product.resize(at(threads));
-  for (std::vector<double>& v : m_gather) v.resize(at(m_n));
-  for (std::vector<double>& v : m_product) v.resize(at(m_n));
 }
 
+template <class T>
 int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<const int> source,
-                                 double* U) {
+                                 T* U) {
+  Numeric<T>& numeric = this->numeric<T>();
   const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
-  double* P = m_panel.data() + m_panel_start[at(s)];
+  T* P = numeric.panel.data() + m_panel_start[at(s)];
   // The front: this supernode's columns of A, ...
   // (Of the update matrices only the lower triangles are written and read.)
-  std::fill(P, P + at(f) * at(w), 0.0);
-  for (int q = 0; q < b; ++q) std::fill(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), 0.0);
+  std::fill(P, P + at(f) * at(w), T{0});
+  for (int q = 0; q < b; ++q) std::fill(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), T{0});
   if (source.empty()) {
     for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
-      P[m_entries[k].offset] += base[at(m_entries[k].entry)];
+      P[m_entries[k].offset] += static_cast<T>(base[at(m_entries[k].entry)]);
   } else {
     for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
-      P[m_entries[k].offset] += base[at(source[at(m_entries[k].entry)])];
+      P[m_entries[k].offset] += static_cast<T>(base[at(source[at(m_entries[k].entry)])]);
   }
   // ... and the extend-add of its children's update matrices (lower triangles).
   for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
@@ -446,25 +489,24 @@ int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<
     const int cw = m_first[at(child) + 1] - m_first[at(child)];
     const int cb = m_row_start[at(child) + 1] - m_row_start[at(child)] - cw;
     const int* map = m_relmap.data() + m_row_start[at(child)] + cw;
-    const double* Uc = m_stack.data() + m_stack_offset[at(child)];
+    const T* Uc = numeric.stack.data() + m_stack_offset[at(child)];
     for (int q = 0; q < cb; ++q) {
       const int pc = map[q];
-      const double* column = Uc + at(q) * at(cb);
-      double* dest = pc < w ? P + at(pc) * at(f) : U + at(pc - w) * at(b) - w;
+      const T* column = Uc + at(q) * at(cb);
+      T* dest = pc < w ? P + at(pc) * at(f) : U + at(pc - w) * at(b) - w;
       for (int r = q; r < cb; ++r) dest[map[r]] += column[r];
     }
   }
   // Dense partial factorisation: L₁₁ = chol(F₁₁), L₂₁ = F₂₁·L₁₁⁻ᵀ, U = F₂₂ − L₂₁·L₂₁ᵀ.
-  const double one = 1.0, minus_one = -1.0;
   int info = 0;
-  dpotrf_("L", &w, P, &f, &info, 1);
+  blas::cholesky(w, P, f, &info);
   if (info != 0) return k1 + std::max(0, info - 1);
   for (int j = 0; j < w; ++j)
     if (!std::isfinite(P[at(j) * at(f) + at(j)])) return k1 + j;
   if (b > 0) {
-    dtrsm_("R", "L", "T", "N", &b, &w, &one, P, &f, P + w, &f, 1, 1, 1, 1);
-    dsyrk_("L", "N", &b, &w, &minus_one, P + w, &f, &one, U, &b, 1, 1);
-    double* stacked = m_stack.data() + m_stack_offset[at(s)];
+    blas::solve_right_lower_transposed(b, w, P, f, P + w, f);
+    blas::subtract_gram(b, w, P + w, f, U, b);
+    T* stacked = numeric.stack.data() + m_stack_offset[at(s)];
     for (int q = 0; q < b; ++q)
       std::copy(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), stacked + at(q) * at(b) + at(q));
   }
@@ -476,11 +518,19 @@ int SparseCholesky::factorize(std::span<const double> values) { return factorize
 int SparseCholesky::factorize(std::span<const double> base, std::span<const int> source) {
   DEXCLOTH_DEMAND(source.empty() ? base.size() == m_entries.size()
                                  : source.size() == m_entries.size());
+  return m_precision == Precision::single_precision ? factorize_in<float>(base, source)
+                                                    : factorize_in<double>(base, source);
+}
+
+template <class T>
+int SparseCholesky::factorize_in(std::span<const double> base, std::span<const int> source) {
+  Numeric<T>& numeric = this->numeric<T>();
   // The threads' subtrees (each stops at its first failed pivot), then the top.
   auto subtrees = [&](int t) {
     m_failure[at(t)] = -1;
     for (int s : m_task_order[at(t)])
-      if ((m_failure[at(t)] = factor_front(s, base, source, m_front[at(t)].data())) >= 0) return;
+      if ((m_failure[at(t)] = factor_front(s, base, source, numeric.front[at(t)].data())) >= 0)
+        return;
   };
   if (m_pool) {
     m_pool->run(subtrees);
@@ -492,7 +542,7 @@ int SparseCholesky::factorize(std::span<const double> base, std::span<const int>
     if (f >= 0 && (failed < 0 || f < failed)) failed = f;
   if (failed >= 0) return failed;
   for (int s : m_top_order)
-    if (const int f = factor_front(s, base, source, m_front[0].data()); f >= 0) return f;
+    if (const int f = factor_front(s, base, source, numeric.front[0].data()); f >= 0) return f;
   return -1;
 }
 
@@ -501,15 +551,16 @@ void SparseCholesky::solve_in_place(std::span<double> b) const {
   backward_in_place(b, 0);
 }
 
-void SparseCholesky::forward_front(int s, double* x, double* product, double* deferred) const {
+template <class T>
+void SparseCholesky::forward_front(int s, T* x, T* product, T* deferred) const {
   const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
-  const Panel L(m_panel.data() + m_panel_start[at(s)], f, w, Eigen::OuterStride<>(f));
+  const Panel<T> L(numeric<T>().panel.data() + m_panel_start[at(s)], f, w, Eigen::OuterStride<>(f));
   // x₁ = L₁₁⁻¹·x₁; the rows below lose L₂₁·x₁ (those in the top later, when `deferred`).
-  Eigen::Map<Eigen::VectorXd> x1(x + k1, w);
-  L.topRows(w).triangularView<Eigen::Lower>().solveInPlace(x1);
+  VectorMap<T> x1(x + k1, w);
+  L.topRows(w).template triangularView<Eigen::Lower>().solveInPlace(x1);
   if (b == 0) return;
-  Eigen::Map<Eigen::VectorXd>(product, b).noalias() = L.bottomRows(b) * x1;
+  VectorMap<T>(product, b).noalias() = L.bottomRows(b) * x1;
   const int* below = m_rows.data() + m_row_start[at(s)] + w;
   const int now = deferred == nullptr
                       ? b
@@ -520,9 +571,19 @@ void SparseCholesky::forward_front(int s, double* x, double* product, double* de
 
 void SparseCholesky::forward_in_place(std::span<double> x) const {
   DEXCLOTH_DEMAND(x.size() == at(m_n));
+  if (m_precision == Precision::double_precision) return forward_in(x.data());
+  std::vector<float>& xs = m_single.x;
+  std::copy(x.begin(), x.end(), xs.begin());
+  forward_in(xs.data());
+  std::copy(xs.begin(), xs.end(), x.begin());
+}
+
+template <class T>
+void SparseCholesky::forward_in(T* x) const {
+  const Numeric<T>& numeric = this->numeric<T>();
   const int ns = supernodes();
   if (!m_threaded_solves) {
-    for (int s = 0; s < ns; ++s) forward_front(s, x.data(), m_product[0].data(), nullptr);
+    for (int s = 0; s < ns; ++s) forward_front<T>(s, x, numeric.product[0].data(), nullptr);
     return;
   }
   // The threads' subtrees, each in column order, keep their updates of the top's rows; then, in
@@ -530,22 +591,23 @@ void SparseCholesky::forward_in_place(std::span<double> x) const {
   // same order as on one thread.
   auto subtrees = [&](int t) {
     for (int s : m_solve_order[at(t)])
-      forward_front(s, x.data(), m_product[at(t)].data(),
-                    m_deferred.data() + m_deferred_start[at(s)]);
+      forward_front(s, x, numeric.product[at(t)].data(),
+                    numeric.deferred.data() + m_deferred_start[at(s)]);
   };
   m_pool->run(subtrees);
   for (int s = 0; s < ns; ++s) {
     if (m_in_top[at(s)]) {
-      forward_front(s, x.data(), m_product[0].data(), nullptr);
+      forward_front<T>(s, x, numeric.product[0].data(), nullptr);
       continue;
     }
     const std::size_t d0 = m_deferred_start[at(s)], count = m_deferred_start[at(s) + 1] - d0;
     const int* top_rows = m_rows.data() + m_row_start[at(s) + 1] - count;
-    for (std::size_t r = 0; r < count; ++r) x[at(top_rows[r])] -= m_deferred[d0 + r];
+    for (std::size_t r = 0; r < count; ++r) x[at(top_rows[r])] -= numeric.deferred[d0 + r];
   }
 }
 
-void SparseCholesky::backward_front(int s, double* x, int lead, double* gather) const {
+template <class T>
+void SparseCholesky::backward_front(int s, T* x, int lead, T* gather) const {
   const int k1 = m_first[at(s)];
   if (k1 >= lead) return;  // the tail: given
   const int w = m_first[at(s) + 1] - k1;
@@ -553,31 +615,38 @@ void SparseCholesky::backward_front(int s, double* x, int lead, double* gather) 
   // The unknown columns [k1, k1 + u): x_u = L_uu⁻ᵀ·(x_u − L_ru ᵀ·x_r) over the front's other
   // rows r (known: below the supernode, or given in the tail).
   const int u = std::min(w, lead - k1), known = f - u;
-  const Panel L(m_panel.data() + m_panel_start[at(s)], f, u, Eigen::OuterStride<>(f));
-  Eigen::Map<Eigen::VectorXd> xu(x + k1, u);
+  const Panel<T> L(numeric<T>().panel.data() + m_panel_start[at(s)], f, u, Eigen::OuterStride<>(f));
+  VectorMap<T> xu(x + k1, u);
   if (known > 0) {
     const int* rows = m_rows.data() + m_row_start[at(s)] + u;
     for (int r = 0; r < known; ++r) gather[r] = x[rows[r]];
-    xu.noalias() -=
-        L.bottomRows(known).transpose() * Eigen::Map<const Eigen::VectorXd>(gather, known);
+    xu.noalias() -= L.bottomRows(known).transpose() * VectorMap<T>(gather, known);
   }
-  L.topRows(u).triangularView<Eigen::Lower>().transpose().solveInPlace(xu);
+  L.topRows(u).template triangularView<Eigen::Lower>().transpose().solveInPlace(xu);
 }
 
 void SparseCholesky::backward_in_place(std::span<double> x, int tail) const {
   DEXCLOTH_DEMAND(x.size() == at(m_n) && tail >= 0 && tail <= m_n);
-  const int lead = m_n - tail;
+  if (m_precision == Precision::double_precision) return backward_in(x.data(), m_n - tail);
+  std::vector<float>& xs = m_single.x;
+  std::copy(x.begin(), x.end(), xs.begin());
+  backward_in(xs.data(), m_n - tail);
+  std::copy(xs.begin(), xs.end(), x.begin());
+}
+
+template <class T>
+void SparseCholesky::backward_in(T* x, int lead) const {
+  const Numeric<T>& numeric = this->numeric<T>();
   const int ns = supernodes();
   // Each supernode only reads the rows below it, all known by then: the top first, then the
   // threads' subtrees in parallel (bitwise the same in any order).
   for (int s = ns - 1; s >= 0; --s)
-    if (!m_threaded_solves || m_in_top[at(s)])
-      backward_front(s, x.data(), lead, m_gather[0].data());
+    if (!m_threaded_solves || m_in_top[at(s)]) backward_front(s, x, lead, numeric.gather[0].data());
   if (!m_threaded_solves) return;
   auto subtrees = [&](int t) {
     const std::vector<int>& order = m_solve_order[at(t)];
     for (auto it = order.rbegin(); it != order.rend(); ++it)
-      backward_front(*it, x.data(), lead, m_gather[at(t)].data());
+      backward_front(*it, x, lead, numeric.gather[at(t)].data());
   };
   m_pool->run(subtrees);
 }
@@ -590,11 +659,16 @@ void SparseCholesky::trailing_factor(int tail, Eigen::MatrixXd& L22) const {
     const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1];
     const int f = m_row_start[at(s) + 1] - m_row_start[at(s)];
     const int* rows = m_rows.data() + m_row_start[at(s)];
-    const double* P = m_panel.data() + m_panel_start[at(s)];
     for (int j = std::max(k1, lead); j < k2; ++j)
       for (int r = j - k1; r < f; ++r)
-        L22(rows[r] - lead, j - lead) = P[at(j - k1) * at(f) + at(r)];
+        L22(rows[r] - lead, j - lead) = entry(s, at(j - k1) * at(f) + at(r));
   }
+}
+
+double SparseCholesky::entry(int s, std::size_t k) const {
+  const std::size_t offset = m_panel_start[at(s)] + k;
+  return m_precision == Precision::single_precision ? m_single.panel.data()[offset]
+                                                    : m_double.panel.data()[offset];
 }
 
 }  // namespace dexcloth::cloth

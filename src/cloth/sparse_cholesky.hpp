@@ -16,6 +16,12 @@
 
 namespace dexcloth::cloth {
 
+/// The numeric factor's precision. A single-precision factor moves half the bytes and runs the
+/// kernels twice as wide; its solves are accurate to about 1e-3 on a cloth system (at 8k
+/// triangles), so a caller refines them in double (dynamics.cpp). The analysis, the inputs and
+/// the solves' vectors are the same in both.
+enum class Precision { double_precision, single_precision };
+
 class SparseCholesky {
  public:
   /// Symbolic analysis of an n×n pattern given by its upper triangle (diagonal included) in
@@ -23,7 +29,9 @@ class SparseCholesky {
   /// column, any order within a column). The unknowns are eliminated in their given order.
   /// Factorisations run on `threads` threads: independent subtrees of the elimination tree in
   /// parallel, the top serially; the factor is bitwise the same for any thread count.
-  void analyze(int n, std::span<const int> col_start, std::span<const int> row, int threads = 1);
+  void analyze(int n, std::span<const int> col_start, std::span<const int> row, int threads = 1,
+               Precision precision = Precision::double_precision);
+  Precision precision() const { return m_precision; }
 
   /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on
   /// success, else the first column whose pivot is not positive and finite.
@@ -48,7 +56,7 @@ class SparseCholesky {
   void trailing_factor(int tail, Eigen::MatrixXd& L22) const;
 
   /// Entries of L stored (diagonal included; relaxed supernodes store some zeros).
-  std::size_t factor_nonzeros() const { return m_panel.size() - m_unused_upper; }
+  std::size_t factor_nonzeros() const { return m_panel_start.back() - m_unused_upper; }
   /// Floating-point operations of one factorisation.
   double factor_flops() const { return m_flops; }
   /// Number of supernodes.
@@ -61,10 +69,9 @@ class SparseCholesky {
   int m_n{};
   // Supernodes s: columns [m_first[s], m_first[s+1]); front rows m_rows[m_row_start[s] ..]
   // (its columns first, then the rows below, increasing); L panel (front rows × columns,
-  // column-major) at m_panel[m_panel_start[s] ..].
+  // column-major) at m_panel_start[s] of the panels (Numeric below).
   std::vector<int> m_first, m_row_start, m_rows, m_super_of;
   std::vector<std::size_t> m_panel_start;
-  ScratchArray m_panel;
   std::size_t m_unused_upper{};  // entries above the diagonal of the panels' pivot blocks
   double m_flops{};
   double m_parallel_share{1.0};
@@ -75,7 +82,10 @@ class SparseCholesky {
   /// Assembles and partially factorises supernode s's front (update matrix built in `U`), A's
   /// value k being base[k], or base[source[k]] when `source` is not empty; returns −1, or the
   /// column of a failed pivot.
-  int factor_front(int s, std::span<const double> base, std::span<const int> source, double* U);
+  template <class T>
+  int factor_front(int s, std::span<const double> base, std::span<const int> source, T* U);
+  template <class T>
+  int factorize_in(std::span<const double> base, std::span<const int> source);
 
   // Multifrontal schedule: supernodes children first (a postorder), each one's update matrix
   // at m_stack_offset[s] of the stack; its children's update rows land at m_relmap positions
@@ -91,10 +101,8 @@ class SparseCholesky {
   };
   std::vector<Entry> m_entries;            // A's values, grouped by supernode
   std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
-  ScratchArray m_stack;
-  std::vector<ScratchArray> m_front;   // per thread: the update matrix being built
-  std::vector<int> m_failure;          // per thread: a failed pivot's column, or −1
-  std::unique_ptr<WorkerPool> m_pool;  // none for one thread
+  std::vector<int> m_failure;              // per thread: a failed pivot's column, or −1
+  std::unique_ptr<WorkerPool> m_pool;      // none for one thread
 
   // Solves on the threads (large factors only): task t's supernodes in column order
   // (m_solve_order[t]); whether a supernode is in the top; per subtree supernode, its updates of
@@ -104,15 +112,42 @@ class SparseCholesky {
   std::vector<std::vector<int>> m_solve_order;
   std::vector<char> m_in_top;
   std::vector<std::size_t> m_deferred_start;
-  mutable std::vector<double> m_deferred;
-  mutable std::vector<std::vector<double>> m_gather, m_product;  // per thread: solve scratch
+
+  /// The numeric buffers of one precision: the panels of L, the update matrices' stack, per
+  /// thread the update matrix being built; the solves' deferred updates and per-thread scratch;
+  /// in single precision the solve's vector.
+  template <class T>
+  struct Numeric {
+    BasicScratchArray<T> panel, stack;
+    std::vector<BasicScratchArray<T>> front;
+    mutable std::vector<T> deferred, x;
+    mutable std::vector<std::vector<T>> gather, product;
+  };
+  Precision m_precision{Precision::double_precision};
+  Numeric<double> m_double;
+  Numeric<float> m_single;
+  template <class T>
+  Numeric<T>& numeric();
+  template <class T>
+  const Numeric<T>& numeric() const;
+  std::size_t m_stack_size{};  // entries of the update matrices' stack
+  /// Sizes the buffers of the analysed precision and frees the other's.
+  void size_buffers(std::size_t max_update);
+  /// Entry k of supernode s's panel, in double.
+  double entry(int s, std::size_t k) const;
   /// The solves' schedule (above) from the factorisation's.
   void schedule_solves(const std::vector<char>& in_top);
   /// Forward substitution through supernode s; its updates of the top's rows go to `deferred`
   /// when given.
-  void forward_front(int s, double* x, double* product, double* deferred) const;
+  template <class T>
+  void forward_front(int s, T* x, T* product, T* deferred) const;
   /// Back substitution through supernode s's columns before `lead`.
-  void backward_front(int s, double* x, int lead, double* gather) const;
+  template <class T>
+  void backward_front(int s, T* x, int lead, T* gather) const;
+  template <class T>
+  void forward_in(T* x) const;
+  template <class T>
+  void backward_in(T* x, int lead) const;
 };
 
 }  // namespace dexcloth::cloth

@@ -264,6 +264,28 @@ TEST(Dynamics, ConjugateGradientAgreesWithDirectSolver) {
   EXPECT_LE((direct.state.v - iterative.state.v).norm(), 1e-6 * direct.state.v.norm());
 }
 
+TEST(Dynamics, SinglePrecisionFactorRefinedInDoubleTracksTheDoubleFactor) {
+  // A float factor alone solves to ~1e-4 here; refined in double to the default 1e-10 relative
+  // residual, 30 steps of the falling sheet with two handles stay with the double factor's.
+  PerturbedSheet exact = perturbed_sheet(12);
+  PerturbedSheet single = perturbed_sheet(12);
+  exact.model.solver.linear_solver = single.model.solver.linear_solver = LinearSolver::cholesky;
+  single.model.solver.factor_precision = Precision::single_precision;
+  const std::vector<VelocityConstraint> handles = {{0, Vec3(0, 0, 0.1)}, {10, Vec3::Zero()}};
+  int refined = 0;
+  for (int n = 0; n < 30; ++n) {
+    ASSERT_TRUE(step_dynamics(exact.model, exact.state, kStep, Vec3(0, 0, -9.81), handles).ok);
+    const DynamicsReport r =
+        step_dynamics(single.model, single.state, kStep, Vec3(0, 0, -9.81), handles);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_LE(r.residual, single.model.solver.refine_tolerance);
+    refined += r.iterations > 1 ? 1 : 0;
+  }
+  EXPECT_GT(refined, 0);  // the float factor alone is not that accurate
+  EXPECT_LE((exact.state.v - single.state.v).norm(), 1e-8 * exact.state.v.norm());
+  EXPECT_GT((exact.state.v - single.state.v).norm(), 0.0);  // not the double factor
+}
+
 TEST(Dynamics, DefaultToleranceTracksTheDirectSolver) {
   // The default PCG tolerance (1e-5 relative residual) against exact solves, over 50 steps of a
   // perturbed sheet with two handles falling under gravity: the trajectories agree to 1e-3 of

@@ -284,6 +284,45 @@ TEST(DynamicsFriction, SchurComplementAndNewtonIterationsReachTheSameStep) {
   EXPECT_GT(schur.cwiseAbs().maxCoeff(), 0.01);
 }
 
+TEST(DynamicsFriction, SchurComplementOfASinglePrecisionFactorRefinesToTheSameStep) {
+  // The Schur complement's path with a float factor, each step's friction problem solved again
+  // for the correction of its residual, against the double factor's: the strip of the test
+  // above, its vertices sticking and sliding. A float factor alone leaves ~1e-6; one correction
+  // reaches 1e-11 to 1e-14 but where the Newton iterations stop at their objective's rounding,
+  // as with the double factor (up to 1.3e-8 in this run).
+  const ClothMesh mesh = strip_mesh();
+  const auto run = [&](Precision precision, int& refined, int& reached) {
+    ClothModel model = direct_strip_model();
+    model.solver.factor_precision = precision;
+    ClothState state = make_state(model, mesh.x);
+    std::vector<FrictionConstraint> friction = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
+    friction[0].squeezed = friction[1].squeezed = true;
+    const std::vector<VelocityConstraint> handle = {{0, Vec3(0.02, 0.0, 0.0)}};
+    const FrictionSettings settings = comparison_settings(200);
+    FrictionOutcome outcome;
+    refined = reached = 0;
+    for (int s = 0; s < 100; ++s) {
+      const Vec3 gravity(s < 50 ? 3.0 : -3.0, -kG, 0.0);
+      const DynamicsReport r =
+          solve_velocities(model, state, kStep, gravity, handle, friction, outcome, settings);
+      EXPECT_TRUE(r.ok) << r.message;
+      EXPECT_LE(r.residual, 2e-8);
+      reached += r.residual <= model.solver.refine_tolerance ? 1 : 0;
+      advance_positions(state, kStep);
+      refined += outcome.linear_solves > 1 ? 1 : 0;
+    }
+    return state.v;
+  };
+  int refined_double = 0, refined_single = 0, reached_double = 0, reached_single = 0;
+  const Points exact = run(Precision::double_precision, refined_double, reached_double);
+  const Points single = run(Precision::single_precision, refined_single, reached_single);
+  EXPECT_EQ(refined_double, 0);
+  EXPECT_GT(refined_single, 90);
+  EXPECT_GE(reached_single, 95);
+  EXPECT_LT((exact - single).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT(exact.cwiseAbs().maxCoeff(), 0.01);
+}
+
 TEST(DynamicsFriction, SchurComplementAndNewtonAgreeAcrossChangingContactsAndTwoPlanes) {
   // As above, with what contacts do to the Schur complement's unknowns: vertices with two
   // contact planes (their three coordinates all slip), one with a squeezed normal, and a contact
