@@ -186,6 +186,8 @@ CompiledScene compile_scene(const SceneSpec& spec) {
     body.name = cs.name;
     try {
       body.model = cloth::build_model(mesh, to_material(cs.material));
+      if (spec.solver.factor_precision == "single")
+        body.model.solver.factor_precision = cloth::Precision::single_precision;
     } catch (const InputRejected& e) {
       for (const InputError& err : e.errors().errors())
         errors.add(spec.file, pointer + "/mesh", err.message);

@@ -53,6 +53,25 @@ CollisionSpec parse_collision(Checker& c, const Json& doc, const Pointer& root) 
   return s;
 }
 
+// `solver`: the precision of the cloths' Cholesky factor.
+SolverSpec parse_solver(Checker& c, const Json& doc, const Pointer& root) {
+  SolverSpec s;
+  const Json* v = c.member(doc, root, "solver", Need::optional);
+  const Pointer at = root / "solver";
+  if (!v || !c.require_object(*v, at)) return s;
+  c.check_keys(*v, at, {"factor_precision"});
+  if (c.string_field(*v, at, "factor_precision", s.factor_precision)) {
+    const std::vector<std::string_view> choices = {"double", "single"};
+    if (s.factor_precision != choices[0] && s.factor_precision != choices[1]) {
+      std::string message = "must be \"double\" or \"single\", got \"" + s.factor_precision + "\"";
+      if (const auto guess = closest_match(s.factor_precision, choices))
+        message += "; did you mean \"" + *guess + "\"?";
+      c.fail(at / "factor_precision", message);
+    }
+  }
+  return s;
+}
+
 // `bodies`: kept as JSON for the rigid module; here only an array of objects with a name.
 Json parse_bodies(Checker& c, const Json& v, const Pointer& at) {
   if (!c.require_array(v, at)) return Json::array();
@@ -80,9 +99,10 @@ SceneSpec validate_scene(Checker& c, const Json& doc) {
   SceneSpec s;
   const Pointer root;
   if (!c.require_object(doc, root)) return s;
-  c.check_keys(doc, root,
-               {"name", "description", "dt", "duration", "frame_rate", "gravity", "coupling",
-                "coupling_params", "collision", "cloths", "obstacles", "probes", "bodies"});
+  c.check_keys(
+      doc, root,
+      {"name", "description", "dt", "duration", "frame_rate", "gravity", "coupling",
+       "coupling_params", "collision", "solver", "cloths", "obstacles", "probes", "bodies"});
   c.string_field(doc, root, "name", s.name, Need::required);
   c.string_field(doc, root, "description", s.description, Need::optional, true);
   c.number_field(doc, root, "dt", Rule::between(0.0, true, 0.05, false), s.dt);
@@ -91,6 +111,7 @@ SceneSpec validate_scene(Checker& c, const Json& doc) {
   c.vec3_field(doc, root, "gravity", s.gravity);
   s.coupling = parse_coupling(c, doc, root);
   s.collision = parse_collision(c, doc, root);
+  s.solver = parse_solver(c, doc, root);
 
   std::vector<NamedAt> cloth_names, obstacle_names, probe_names;
   for_each_entry(c, doc, root, "cloths", Need::required, [&](const Json& v, const Pointer& at) {

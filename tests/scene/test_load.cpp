@@ -30,6 +30,7 @@ TEST(LoadScene, FullSceneHasEveryValue) {
   EXPECT_EQ(s.coupling.rigid_substeps, 3);
   EXPECT_DOUBLE_EQ(s.collision.thickness, 0.004);
   EXPECT_FALSE(s.collision.self_collision);
+  EXPECT_EQ(s.solver.factor_precision, "single");
 
   // Grid cloth with material, transform and two handles.
   ASSERT_EQ(s.cloths.size(), 2u);
@@ -124,6 +125,7 @@ TEST(LoadScene, MinimalSceneGetsDefaults) {
   EXPECT_DOUBLE_EQ(s.coupling.cluster_offset, 0.003);
   EXPECT_DOUBLE_EQ(s.collision.thickness, 0.005);
   EXPECT_TRUE(s.collision.self_collision);
+  EXPECT_EQ(s.solver.factor_precision, "double");
   EXPECT_TRUE(s.cloths.empty() && s.obstacles.empty() && s.probes.empty());
   EXPECT_TRUE(s.bodies.is_array() && s.bodies.empty());
 }
