@@ -9,6 +9,8 @@
 ///                     its counter pcg_iterations then counts the solves);
 ///   BM_ClothSubstitution  the forward and back substitution of that solve alone, through the
 ///                     factor of the step's matrix;
+///   BM_ClothFactorisation  the factorisation alone, a third argument 1 in single precision
+///                     (counter solves: those the refined solve took);
 ///   BM_ClothSolveIncompleteCholesky  the same solve by conjugate gradient preconditioned with
 ///                     Eigen's incomplete Cholesky (AMD order, its default fill and shift),
 ///                     recomputed for each step's matrix (included), warm-started alike, to the
@@ -123,6 +125,20 @@ void BM_ClothSolve(benchmark::State& bench) {
     bench.counters["factor_nnz"] = static_cast<double>(factor.factor_nonzeros());
     bench.counters["parallel_share"] = factor.parallel_share();
   }
+  set_size_counters(bench, s.model);
+}
+
+void BM_ClothFactorisation(benchmark::State& bench) {
+  PinnedSheet s(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)));
+  if (bench.range(2) == 1) s.model.solver.factor_precision = cloth::Precision::single_precision;
+  cloth::DynamicsWorkspace& ws = s.state.scratch.get();
+  cloth::assemble_system(s.model, s.state, kStep, s.gravity, s.pins, ws);
+  const cloth::DynamicsReport r = cloth::solve_system(s.model, s.pins, ws);  // analyses
+  if (!r.ok) bench.SkipWithError(r.message.c_str());
+  for (auto _ : bench) {
+    if (!cloth::factorise(ws.blocks, ws.direct).ok) bench.SkipWithError("pivot");
+  }
+  bench.counters["solves"] = r.iterations;
   set_size_counters(bench, s.model);
 }
 
@@ -286,6 +302,10 @@ BENCHMARK(BM_ClothStep)->Apply(sizes);
 BENCHMARK(BM_ClothAssembly)->Apply(sizes);
 BENCHMARK(BM_ClothSolve)->Apply(solve_sizes);
 BENCHMARK(BM_ClothSubstitution)->Apply(sizes);
+BENCHMARK(BM_ClothFactorisation)
+    ->ArgsProduct({{33, 65, 129}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_ClothReanalysis)->Apply(sizes);
 BENCHMARK(BM_ClothSolveIncompleteCholesky)
     ->Arg(33)
