@@ -397,6 +397,20 @@ double refine_direct(const ClothModel& model, DynamicsWorkspace& ws, double resi
   return residual;
 }
 
+/// solve_direct and its relative residual, refined when the factor is in single precision
+/// (the report's iterations count the solves).
+DynamicsReport solve_direct_refined(const ClothModel& model, DynamicsWorkspace& ws) {
+  DynamicsReport report = solve_direct(model, ws);
+  if (!report.ok) return report;
+  report.residual = direct_residual(model, ws);
+  if (model.solver.factor_precision == Precision::single_precision) {
+    int rounds = 0;
+    report.residual = refine_direct(model, ws, report.residual, rounds);
+    report.iterations += rounds;
+  }
+  return report;
+}
+
 /// v̄ = v + Δv; constrained vertices take their prescribed velocity exactly in their constrained
 /// directions.
 void take_velocities(const ClothModel& model, std::span<const VelocityConstraint> constraints,
@@ -499,14 +513,8 @@ DynamicsReport solve_system(const ClothModel& model,
   SolverSettings settings = model.solver;
   settings.tolerance = std::max(settings.tolerance, tolerance);
   if (settings.linear_solver == LinearSolver::cholesky) {
-    report = solve_direct(model, ws);
+    report = solve_direct_refined(model, ws);
     if (!report.ok) return report;
-    report.residual = direct_residual(model, ws);
-    if (settings.factor_precision == Precision::single_precision) {
-      int rounds = 0;
-      report.residual = refine_direct(model, ws, report.residual, rounds);
-      report.iterations += rounds;
-    }
   } else {
     if (!ws.pcg_ready) {
       ws.pcg.resize(model.num_vertices());
@@ -528,13 +536,12 @@ DynamicsReport solve_system(const ClothModel& model,
       const std::string why = "PCG did not converge (relative residual " +
                               std::to_string(r.residual) + " after " +
                               std::to_string(r.iterations) + " iterations)";
-      report = solve_direct(model, ws);
+      report = solve_direct_refined(model, ws);
       if (!report.ok) {
         report.message = why + "; " + report.message;
         ws.dv.setZero();
         return report;
       }
-      report.residual = direct_residual(model, ws);
       report.iterations += r.iterations;
       report.message = why + "; solved with Cholesky";
     }

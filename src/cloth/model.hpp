@@ -47,7 +47,7 @@ struct SolverSettings {
   /// with the double factor's to that residual, not bitwise.
   Precision factor_precision{Precision::double_precision};
   double refine_tolerance{1e-10};  ///< see factor_precision
-  int max_refinements{8};          ///< rounds before a solve is reported inaccurate
+  int max_refinements{8};          ///< most refinement rounds of one solve
 };
 
 /// Immutable cloth model.

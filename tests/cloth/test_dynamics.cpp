@@ -342,4 +342,14 @@ TEST(Dynamics, NonConvergedConjugateGradientFallsBackToDirectSolver) {
   EXPECT_TRUE(r.ok);
   EXPECT_NE(r.message.find("solved with Cholesky"), std::string::npos) << r.message;
   EXPECT_LE((direct.state.v - capped.state.v).norm(), 1e-12 * direct.state.v.norm());
+
+  // The fallback through a single-precision factor is refined as well.
+  PerturbedSheet single = perturbed_sheet(6);
+  single.model.solver = capped.model.solver;
+  single.model.solver.factor_precision = Precision::single_precision;
+  const DynamicsReport s =
+      solve_velocities(single.model, single.state, kStep, Vec3(0, 0, -9.81), none);
+  EXPECT_TRUE(s.ok) << s.message;
+  EXPECT_LE(s.residual, single.model.solver.refine_tolerance);
+  EXPECT_LE((direct.state.v - single.state.v).norm(), 1e-9 * direct.state.v.norm());
 }
