@@ -12,19 +12,22 @@ namespace dexcloth::scene {
 
 namespace {
 
+// A string that must be one of two `choices`, with a suggestion when it is close to one.
+void check_choice(Checker& c, const Pointer& at, const std::string& value,
+                  const std::vector<std::string_view>& choices) {
+  if (value == choices[0] || value == choices[1]) return;
+  std::string message = "must be \"" + std::string(choices[0]) + "\" or \"" +
+                        std::string(choices[1]) + "\", got \"" + value + "\"";
+  if (const auto guess = closest_match(value, choices))
+    message += "; did you mean \"" + *guess + "\"?";
+  c.fail(at, message);
+}
+
 // `coupling` (mode string) and `coupling_params` (paper §5 clustering thresholds, rigid substeps).
 CouplingSpec parse_coupling(Checker& c, const Json& doc, const Pointer& root) {
   CouplingSpec s;
-  if (c.string_field(doc, root, "coupling", s.mode)) {
-    const std::vector<std::string_view> modes = {"bai-liu", "kinematic"};
-    if (s.mode != modes[0] && s.mode != modes[1]) {
-      std::string message = "must be \"bai-liu\" or \"kinematic\", got \"" + s.mode + "\"";
-      if (const auto guess = closest_match(s.mode, modes)) {
-        message += "; did you mean \"" + *guess + "\"?";
-      }
-      c.fail(root / "coupling", message);
-    }
-  }
+  if (c.string_field(doc, root, "coupling", s.mode))
+    check_choice(c, root / "coupling", s.mode, {"bai-liu", "kinematic"});
   const Json* p = c.member(doc, root, "coupling_params", Need::optional);
   const Pointer at = root / "coupling_params";
   if (!p || !c.require_object(*p, at)) return s;
@@ -60,15 +63,8 @@ SolverSpec parse_solver(Checker& c, const Json& doc, const Pointer& root) {
   const Pointer at = root / "solver";
   if (!v || !c.require_object(*v, at)) return s;
   c.check_keys(*v, at, {"factor_precision"});
-  if (c.string_field(*v, at, "factor_precision", s.factor_precision)) {
-    const std::vector<std::string_view> choices = {"double", "single"};
-    if (s.factor_precision != choices[0] && s.factor_precision != choices[1]) {
-      std::string message = "must be \"double\" or \"single\", got \"" + s.factor_precision + "\"";
-      if (const auto guess = closest_match(s.factor_precision, choices))
-        message += "; did you mean \"" + *guess + "\"?";
-      c.fail(at / "factor_precision", message);
-    }
-  }
+  if (c.string_field(*v, at, "factor_precision", s.factor_precision))
+    check_choice(c, at / "factor_precision", s.factor_precision, {"double", "single"});
   return s;
 }
 
