@@ -82,9 +82,9 @@ struct DynamicsWorkspace {
   Eigen::MatrixXd schur_L, schur_S, schur_K;  ///< trailing factor, Schur complement, Newton
   Eigen::MatrixXd schur_Sxx, schur_Lr, schur_W;  ///< S condensed on x; S_rr = L_r·L_rᵀ; L_r⁻¹·S_rx
   Eigen::VectorXd schur_c, schur_cx, schur_zr, schur_tail;
-  // Refinement of a single-precision factor's solve: Δv before the round, its correction, zero
-  // (3|V| each); friction gradients at the correction's start, and zero (q each).
-  Eigen::VectorXd schur_base, schur_delta, schur_zero, schur_g0, schur_x0;
+  // Refinement of a single-precision factor's solve: a round's correction of Δv (3|V|), the
+  // friction gradients at its start (q).
+  Eigen::VectorXd schur_delta, schur_g0;
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
   // Assembly in pieces, on several threads (no pool for one), or ahead of the solve.
   std::vector<AssemblyPart> assembly_parts;

@@ -211,12 +211,12 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   seconds += since(start);
 
   // One solve of the problem for the right-hand side in ws.work (permuted and rotated), into
-  // `out` (3|V|), its Newton iterations starting from `warm` (3|V|). With `base` (3|V|) given,
-  // the problem of a correction δ of Δv = base whose right-hand side is the whole residual:
-  // the friction vertices slip at v + base + δ, and their friction's gradient at base is taken
-  // out (it is in the residual), so that every term shrinks with the residual.
-  const auto solve_once = [&](const Eigen::VectorXd* base, const Eigen::VectorXd& warm,
-                              Eigen::VectorXd& out) {
+  // `out` (3|V|), its Newton iterations starting from the last step's Δv (ws.dv_iterate). With
+  // `base` (3|V|, not `out`) given, the problem of a correction δ of Δv = base whose right-hand
+  // side is the whole residual, from δ = 0: the friction vertices slip at v + base + δ, and
+  // their friction's gradient at base is taken out (it is in the residual), so that every term
+  // shrinks with the residual.
+  const auto solve_once = [&](const Eigen::VectorXd* base, Eigen::VectorXd& out) {
     d.cholesky.forward_in_place(std::span<double>(ws.work.data(), static_cast<std::size_t>(n)));
     const auto round_start = Clock::now();
     ws.schur_c.noalias() = ws.schur_L.triangularView<Eigen::Lower>() * ws.work.tail(p);
@@ -226,10 +226,12 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
       solve_lower(ws.schur_Lr, ws.schur_zr);
       ws.schur_cx.noalias() -= ws.schur_W.transpose() * ws.schur_zr;
     }
-    ws.schur_x.resize(q);
-    for (std::size_t a = 0; a < F.size(); ++a)
-      if (qoff[a] >= 0)
-        ws.schur_x.segment(qoff[a], dofs(a)) = axes(a).transpose() * warm.segment<3>(3 * F[a]);
+    ws.schur_x.setZero(q);
+    if (base == nullptr)
+      for (std::size_t a = 0; a < F.size(); ++a)
+        if (qoff[a] >= 0)
+          ws.schur_x.segment(qoff[a], dofs(a)) =
+              axes(a).transpose() * ws.dv_iterate.segment<3>(3 * F[a]);
     // Slip of friction constraint k at the slip coordinates x.
     const auto slip = [&](std::size_t k, const Eigen::VectorXd& x) {
       const FrictionConstraint& f = friction[k];
@@ -241,16 +243,15 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
                                 f.surface_velocity + axes(a) * x.segment(qoff[a], dofs(a)));
       return Vec3(w - f.normal.dot(w) * f.normal);
     };
-    // A correction's friction gradients at x = 0, in the Newton problem's coordinates.
+    // A correction's friction gradients at its start x = 0, in the Newton problem's coordinates.
     ws.schur_g0.setZero(q);
     if (base != nullptr) {
-      ws.schur_x0.setZero(q);
       for (std::size_t k = 0; k < friction.size(); ++k) {
         if (!active[k]) continue;
         const auto a = static_cast<std::size_t>(slot[static_cast<std::size_t>(friction[k].vertex)]);
         ws.schur_g0.segment(qoff[a], dofs(a)) +=
             axes(a).transpose() *
-            friction_gradient(slip(k, ws.schur_x0), friction[k].max_impulse, eps);
+            friction_gradient(slip(k, ws.schur_x), friction[k].max_impulse, eps);
       }
     }
     const auto objective = [&](const Eigen::VectorXd& x) {
@@ -339,13 +340,12 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
     return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);
   };
 
-  solve_once(nullptr, ws.dv_iterate, ws.dv);
+  solve_once(nullptr, ws.dv);
   report.residual = residual();
   // A single-precision factor: refined in double, each round the problem of the correction δ
   // of Δv for the residual, until it is below refine_tolerance or stops shrinking.
   if (model.solver.factor_precision == Precision::single_precision) {
     ws.schur_delta.resize(n);
-    ws.schur_zero.setZero(n);
     for (int round = 0;
          report.residual > model.solver.refine_tolerance && round < model.solver.max_refinements;
          ++round) {
@@ -353,8 +353,7 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
       rotate_residual(ws);
       for (Eigen::Index k = 0; k < n; ++k)
         ws.work[k] = ws.correction[d.dof[static_cast<std::size_t>(k)]];
-      ws.schur_base = ws.dv;
-      solve_once(&ws.schur_base, ws.schur_zero, ws.schur_delta);
+      solve_once(&ws.dv, ws.schur_delta);
       ws.dv += ws.schur_delta;
       ++outcome.linear_solves;
       const double last = report.residual;

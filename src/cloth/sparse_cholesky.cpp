@@ -425,11 +425,11 @@ void SparseCholesky::size_buffers(std::size_t max_update) {
     numeric.product.resize(at(threads));
     for (auto& v : numeric.gather) v.resize(at(m_n));
     for (auto& v : numeric.product) v.resize(at(m_n));
-    numeric.x.resize(at(m_n));
   };
   const auto release = [](auto& numeric) { numeric = {}; };
   if (m_precision == Precision::single_precision) {
     size(m_single);
+    m_single.x.resize(at(m_n));  // the solves' float copy of their double vector
     release(m_double);
   } else {
     size(m_double);

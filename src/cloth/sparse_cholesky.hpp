@@ -115,7 +115,7 @@ class SparseCholesky {
 
   /// The numeric buffers of one precision: the panels of L, the update matrices' stack, per
   /// thread the update matrix being built; the solves' deferred updates and per-thread scratch;
-  /// in single precision the solve's vector.
+  /// in single precision only, the solve's vector.
   template <class T>
   struct Numeric {
     BasicScratchArray<T> panel, stack;
