@@ -9,14 +9,26 @@
 ///   BM_Coupled/curtain        scenes/curtain.json from 1.2 s (the gripper pulling 16k triangles).
 /// Counters (per timed step): cloth_ms, interface_ms, rigid_ms (the Table-1 parts),
 /// interface_pct (interface share of the step), patches, vr (rigid-contact vertices),
-/// triangles. The argument is the step's threads (1, 2). Run (Release):
+/// triangles. The argument is the step's threads (1, 2).
+///   BM_PinchMoveSearches: the two broad phases of a step alone, on the state of pinch_move's
+///   step at 2.2 s (the sheet hanging in wrinkles from the pinch, its self query the step's
+///   largest search), repeated without stepping: the proximity search (find_proximities, at
+///   x0) and the impact zones' swept candidates (x0 → x1). Counters: proximity_ms, swept_ms,
+///   the candidates and proximities found. Argument: threads of the searches (1, 2).
+/// Run (Release):
 ///   build/bench/bench_coupling
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "cloth/collision/impact_zones.hpp"
+#include "cloth/collision/proximity.hpp"
 #include "core/heap.hpp"
+#include "core/worker_pool.hpp"
 #include "coupling/step.hpp"
 #include "scene/compile.hpp"
 #include "scene/load.hpp"
@@ -96,6 +108,60 @@ BENCHMARK_CAPTURE(BM_Coupled, curtain, std::string("curtain"), 1.2)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(40);
+
+// pinch_move stepped to 2.2 s, once for every run of BM_PinchMoveSearches (null: state lost).
+const scene::CompiledScene* pinch_move_at_2_2s() {
+  static const std::unique_ptr<scene::CompiledScene> scene = [] {
+    auto s = std::make_unique<scene::CompiledScene>(
+        scene::compile_scene(scene::load_scene(kScenes + "/pinch_move.json")));
+    while (s->data.time < 2.2 - 1e-9 && !s->data.lost) coupling::step(s->model, s->data);
+    return s;
+  }();
+  return scene->data.lost ? nullptr : scene.get();
+}
+
+void BM_PinchMoveSearches(benchmark::State& bench) {
+  const scene::CompiledScene* scene = pinch_move_at_2_2s();
+  if (scene == nullptr) {
+    bench.SkipWithError("state lost (NaN)");
+    return;
+  }
+  // The meshes as the last step left them: x0 its start, x1 its end.
+  std::vector<const collision::CollisionMesh*> meshes;
+  for (const collision::CollisionMesh& m : scene->data.meshes) meshes.push_back(&m);
+  const int threads = static_cast<int>(bench.range(0));
+  WorkerPool pool(threads);
+  collision::CollisionCandidates proximity, swept;
+  proximity.set_pool(threads > 1 ? &pool : nullptr);
+  swept.set_pool(threads > 1 ? &pool : nullptr);
+  std::vector<collision::Proximity> found;
+  std::vector<std::vector<collision::Proximity>> scratch;
+  const double ccd_tolerance = collision::ImpactZoneOptions{}.ccd_tolerance;
+  // Untimed first searches build what the step keeps between steps (trees, topology, rest
+  // neighbours, the unfolded subtrees' and windows' rest data).
+  collision::find_proximities(meshes, scene->model.thickness, proximity, found, scratch);
+  swept.update(meshes, true, ccd_tolerance);
+  using Clock = std::chrono::steady_clock;
+  double t_proximity = 0.0, t_swept = 0.0;
+  for (auto _ : bench) {
+    const auto t0 = Clock::now();
+    collision::find_proximities(meshes, scene->model.thickness, proximity, found, scratch);
+    const auto t1 = Clock::now();
+    swept.update(meshes, true, ccd_tolerance);
+    const auto t2 = Clock::now();
+    t_proximity += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    t_swept += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const auto per_run = benchmark::Counter::kAvgIterations;
+  bench.counters["proximity_ms"] = benchmark::Counter(t_proximity, per_run);
+  bench.counters["swept_ms"] = benchmark::Counter(t_swept, per_run);
+  bench.counters["vf_candidates"] = static_cast<double>(proximity.vertex_face().size());
+  bench.counters["ee_candidates"] = static_cast<double>(proximity.edge_edge().size());
+  bench.counters["proximities"] = static_cast<double>(found.size());
+  bench.counters["swept_candidates"] =
+      static_cast<double>(swept.vertex_face().size() + swept.edge_edge().size());
+}
+BENCHMARK(BM_PinchMoveSearches)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
