@@ -103,9 +103,7 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
   const double size = std::max(domain[2] - domain[0], domain[3] - domain[1]);
   stride = std::max(stride, size / 8000.0);
   const double inverse_stride = 1.0 / stride;
-  m_columns = static_cast<int>((domain[2] - domain[0]) * inverse_stride) + 1;
-  m_rows = static_cast<int>((domain[3] - domain[1]) * inverse_stride) + 1;
-  // Each node's cells (its box is within D, so they lie in [0, columns] × [0, rows]).
+  // Each node's cells (its box is within D, so they lie in [0, columns) × [0, rows)).
   m_cells.resize(static_cast<std::size_t>(m_nodes));
   for (std::size_t i = 0; i < m_cells.size(); ++i)
     for (int a = 0; a < 2; ++a) {
@@ -115,32 +113,51 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
       m_cells[i].lo[a] = cell(boxes[4 * i + static_cast<std::size_t>(a)]);
       m_cells[i].hi[a] = cell(boxes[4 * i + 2 + static_cast<std::size_t>(a)]);
     }
-  const auto nw = static_cast<std::size_t>(m_columns) * static_cast<std::size_t>(m_rows);
-  const double hair = 1e-9 * stride;  // windows grow by this for skips' rounding
-  // Q of window (c0, c1): the window grown by the hair, clipped to D.
-  const auto region = [&](int c0, int c1, double* q) {
-    q[0] = std::max(domain[0], m_origin[0] + c0 * stride - hair);
-    q[1] = std::max(domain[1], m_origin[1] + c1 * stride - hair);
-    q[2] = std::min(domain[2], m_origin[0] + (c0 + 2) * stride + hair);
-    q[3] = std::min(domain[3], m_origin[1] + (c1 + 2) * stride + hair);
+  // The levels: the cells of level k are the first level's halved k times (none beyond a level
+  // with at most two cells a side, whose window (0, 0) spans D).
+  m_levels.clear();
+  const int columns = static_cast<int>((domain[2] - domain[0]) * inverse_stride) + 1;
+  const int rows = static_cast<int>((domain[3] - domain[1]) * inverse_stride) + 1;
+  std::size_t nw = 0;
+  for (int k = 0; k < kLevels; ++k) {
+    if (k > 0 && m_levels.back().columns <= 2 && m_levels.back().rows <= 2) break;
+    m_levels.push_back({nw, ((columns - 1) >> k) + 1, ((rows - 1) >> k) + 1});
+    nw += static_cast<std::size_t>(m_levels.back().columns) *
+          static_cast<std::size_t>(m_levels.back().rows);
+  }
+  // Q of window (c0, c1) of level k: the window grown by a hair (for skips' rounding), clipped
+  // to D.
+  const auto region = [&](int k, int c0, int c1, double* q) {
+    const double s = std::ldexp(stride, k), hair = 1e-9 * s;
+    q[0] = std::max(domain[0], m_origin[0] + c0 * s - hair);
+    q[1] = std::max(domain[1], m_origin[1] + c1 * s - hair);
+    q[2] = std::min(domain[2], m_origin[0] + (c0 + 2) * s + hair);
+    q[3] = std::min(domain[3], m_origin[1] + (c1 + 2) * s + hair);
   };
-  // The windows whose Q meets the box {lo0, lo1, hi0, hi1}: calls visit(window, Q).
+  // The windows of every level whose Q meets the box {lo0, lo1, hi0, hi1}: calls
+  // visit(window, Q).
   const auto windows_over = [&](const double* box, auto&& visit) {
-    const auto first = [&](double lo, double o) {
-      return std::max(0, static_cast<int>(std::floor((lo - o - hair) * inverse_stride)) - 1);
-    };
-    const auto last = [&](double hi, double o, int count) {
-      return std::min(count - 1, static_cast<int>(std::floor((hi - o + hair) * inverse_stride)));
-    };
-    for (int c1 = first(box[1], m_origin[1]); c1 <= last(box[3], m_origin[1], m_rows); ++c1)
-      for (int c0 = first(box[0], m_origin[0]); c0 <= last(box[2], m_origin[0], m_columns); ++c0) {
-        double q[4];
-        region(c0, c1, q);
-        if (box[0] <= q[2] && q[0] <= box[2] && box[1] <= q[3] && q[1] <= box[3])
-          visit(static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_columns) +
-                    static_cast<std::size_t>(c0),
-                q);
-      }
+    for (std::size_t k = 0; k < m_levels.size(); ++k) {
+      const Level& level = m_levels[k];
+      const double s = std::ldexp(stride, static_cast<int>(k)), hair = 1e-9 * s;
+      const auto first = [&](double lo, double o) {
+        return std::max(0, static_cast<int>(std::floor((lo - o - hair) / s)) - 1);
+      };
+      const auto last = [&](double hi, double o, int count) {
+        return std::min(count - 1, static_cast<int>(std::floor((hi - o + hair) / s)));
+      };
+      for (int c1 = first(box[1], m_origin[1]); c1 <= last(box[3], m_origin[1], level.rows); ++c1)
+        for (int c0 = first(box[0], m_origin[0]); c0 <= last(box[2], m_origin[0], level.columns);
+             ++c0) {
+          double q[4];
+          region(static_cast<int>(k), c0, c1, q);
+          if (box[0] <= q[2] && q[0] <= box[2] && box[1] <= q[3] && q[1] <= box[3])
+            visit(level.first +
+                      static_cast<std::size_t>(c1) * static_cast<std::size_t>(level.columns) +
+                      static_cast<std::size_t>(c0),
+                  q);
+        }
+    }
   };
 
   // Faces of each window, the area they cover of its Q, and their orientations.
@@ -202,18 +219,21 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
   m_covered.assign(nw, 0);
   m_face_start.assign(1, 0);
   m_faces.clear();
-  for (int c1 = 0; c1 < m_rows; ++c1)
-    for (int c0 = 0; c0 < m_columns; ++c0) {
-      const std::size_t w = static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_columns) +
-                            static_cast<std::size_t>(c0);
-      double q[4];
-      region(c0, c1, q);
-      const double q_area = (q[2] - q[0]) * (q[3] - q[1]);
-      m_covered[w] = q_area > 0.0 && (signs[w] == 1 || signs[w] == 2) && cut[w] == 0 &&
-                     std::abs(area[w] - q_area) <= 1e-6 * q_area;
-      if (m_covered[w] != 0) m_faces.insert(m_faces.end(), lists[w].begin(), lists[w].end());
-      m_face_start.push_back(static_cast<int>(m_faces.size()));
-    }
+  for (std::size_t k = 0; k < m_levels.size(); ++k)
+    for (int c1 = 0; c1 < m_levels[k].rows; ++c1)
+      for (int c0 = 0; c0 < m_levels[k].columns; ++c0) {
+        const std::size_t w =
+            m_levels[k].first +
+            static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_levels[k].columns) +
+            static_cast<std::size_t>(c0);
+        double q[4];
+        region(static_cast<int>(k), c0, c1, q);
+        const double q_area = (q[2] - q[0]) * (q[3] - q[1]);
+        m_covered[w] = q_area > 0.0 && (signs[w] == 1 || signs[w] == 2) && cut[w] == 0 &&
+                       std::abs(area[w] - q_area) <= 1e-6 * q_area;
+        if (m_covered[w] != 0) m_faces.insert(m_faces.end(), lists[w].begin(), lists[w].end());
+        m_face_start.push_back(static_cast<int>(m_faces.size()));
+      }
   m_any_covered = std::find(m_covered.begin(), m_covered.end(), 1) != m_covered.end();
   m_state = std::vector<std::atomic<std::uint8_t>>(nw);
   m_sets = 0;

@@ -15,10 +15,13 @@
 /// polar factor). A face turned by α against J₀, unstretched, has λ_min ≥ cos α.
 ///
 /// Windows are squares of side 2s at every multiple of the stride s, so any rest box of side at
-/// most s lies within one (BvhTraversal asks `skips`). Q is the window (grown by a hair for
-/// rounding) clipped to the mesh's rest bounding box; a window counts only when the faces
-/// overlapping Q cover it exactly once, with one orientation and no mesh boundary inside it (no
-/// hole, slit, fold or second layer in the rest plane), else it is never flagged.
+/// most s lies within one (BvhTraversal asks `skips`); a second level of windows, of stride 2s,
+/// holds the pairs of nodes too wide for the first (pairs along the border between two big
+/// subtrees, which the swept search, whose κ need only be positive, mostly leaves out there).
+/// Q is the window (grown by a hair for rounding) clipped to the mesh's rest bounding box; a
+/// window counts only when the faces overlapping Q cover it exactly once, with one orientation
+/// and no mesh boundary inside it (no hole, slit, fold or second layer in the rest plane), else
+/// it is never flagged.
 #include <atomic>
 #include <cstdint>
 #include <span>
@@ -32,6 +35,11 @@ namespace dexcloth::collision {
 
 class UnfoldedWindows {
  public:
+  /// Levels of windows, of strides s, 2s, ...: a level's window holds four times the faces of
+  /// the one below, and the κ test reads all of them, so that in pinch_move's swept search more
+  /// levels than two cost more than they leave out.
+  static constexpr int kLevels = 2;
+
   /// Windows of stride `stride` [m] (wider if the cloth spans over 8,000 of them) over the
   /// rest-plane coordinates `uv` (|V|×2, a planar rest shape's) of `faces`, for a BVH whose nodes
   /// have the rest boxes `boxes` (4 per node: {u0 lo, u1 lo, u0 hi, u1 hi}).
@@ -53,17 +61,26 @@ class UnfoldedWindows {
   /// Whether the pairs between the subtrees of nodes i and j (i = j: within one) can be left
   /// out: their rest boxes fit together in a flagged window. Safe on several threads at once.
   bool skips(int i, int j) const {
-    // Window (c0, c1) spans cells c..c + 1 on each axis: the boxes' lowest cell and their
-    // highest one at most one above it (and, where both are one cell, the window one lower).
+    // Window (c0, c1) of a level spans its cells c..c + 1 on each axis: the boxes' lowest cell
+    // and their highest one at most one above it (and, where both are one cell, the window one
+    // lower). A level's cells are the first level's halved as often as its stride is doubled.
     const Cells& a = m_cells[static_cast<std::size_t>(i)];
     const Cells& b = m_cells[static_cast<std::size_t>(j)];
-    const int c0 = a.lo[0] < b.lo[0] ? a.lo[0] : b.lo[0];
-    const int c1 = a.lo[1] < b.lo[1] ? a.lo[1] : b.lo[1];
-    const int h0 = a.hi[0] > b.hi[0] ? a.hi[0] : b.hi[0];
-    const int h1 = a.hi[1] > b.hi[1] ? a.hi[1] : b.hi[1];
-    if (h0 > c0 + 1 || h1 > c1 + 1) return false;
+    int c0 = a.lo[0] < b.lo[0] ? a.lo[0] : b.lo[0];
+    int c1 = a.lo[1] < b.lo[1] ? a.lo[1] : b.lo[1];
+    int h0 = a.hi[0] > b.hi[0] ? a.hi[0] : b.hi[0];
+    int h1 = a.hi[1] > b.hi[1] ? a.hi[1] : b.hi[1];
+    std::size_t level = 0;
+    while (h0 > c0 + 1 || h1 > c1 + 1) {
+      if (++level == m_levels.size()) return false;
+      c0 >>= 1;
+      c1 >>= 1;
+      h0 >>= 1;
+      h1 >>= 1;
+    }
+    const Level& l = m_levels[level];
     const auto window = [&](int w0, int w1) {
-      return static_cast<std::size_t>(w1) * static_cast<std::size_t>(m_columns) +
+      return l.first + static_cast<std::size_t>(w1) * static_cast<std::size_t>(l.columns) +
              static_cast<std::size_t>(w0);
     };
     if (flagged(window(c0, c1))) return true;
@@ -73,8 +90,18 @@ class UnfoldedWindows {
   }
   /// Nodes of the tree it was built for.
   int num_nodes() const { return m_nodes; }
-  /// Windows, row-major over the rest plane's cells.
+  /// Windows of every level, each level's row-major over its cells, the first level first.
   std::size_t num_windows() const { return m_covered.size(); }
+  /// Levels of windows (the first of stride s, each next one of twice the stride).
+  int num_levels() const { return static_cast<int>(m_levels.size()); }
+  /// The windows of `level`: [first, first + columns · rows).
+  std::size_t first_window(int level) const {
+    return m_levels[static_cast<std::size_t>(level)].first;
+  }
+  std::size_t level_windows(int level) const {
+    const Level& l = m_levels[static_cast<std::size_t>(level)];
+    return static_cast<std::size_t>(l.columns) * static_cast<std::size_t>(l.rows);
+  }
   /// Whether window w's cloth covers it once (only those can be flagged).
   bool covered(std::size_t w) const { return m_covered[w] != 0; }
   /// Whether window w is flagged at the last update.
@@ -97,12 +124,16 @@ class UnfoldedWindows {
     std::int16_t lo[2];
     std::int16_t hi[2];
   };
+  struct Level {
+    std::size_t first{};  // its first window
+    int columns{}, rows{};
+  };
 
   int m_nodes{};
   double m_stride{};
   double m_origin[2]{};
-  int m_columns{}, m_rows{};
-  std::vector<Cells> m_cells;           // per node
+  std::vector<Level> m_levels;
+  std::vector<Cells> m_cells;           // per node, of the first level
   std::vector<int> m_face_start;        // per window: its faces m_faces[start .. next start)
   std::vector<int> m_faces;             //
   std::vector<std::uint8_t> m_covered;  // per window

@@ -45,10 +45,17 @@ struct Culling {
   }
 };
 
-/// How many windows are covered once, and how many flagged.
+/// How many windows are covered once (of every level, or of one), and how many flagged.
 int covered(const UnfoldedWindows& w) {
   int n = 0;
   for (std::size_t k = 0; k < w.num_windows(); ++k) n += w.covered(k);
+  return n;
+}
+
+int covered(const UnfoldedWindows& w, int level) {
+  int n = 0;
+  const std::size_t first = w.first_window(level);
+  for (std::size_t k = first; k < first + w.level_windows(level); ++k) n += w.covered(k);
   return n;
 }
 
@@ -242,9 +249,13 @@ TEST(UnfoldedWindows, AWindowOverASlitIsNotCovered) {
   m.mass = Eigen::VectorXd::Constant(m.x0.rows(), 1e-4);
   const Culling c(m);
   // 7 × 7 windows of 32 mm at 16 mm steps from −50 mm (along the rest plane's axes, which lie
-  // along x and y in some order): two rows or columns of them span the cut at 0.
-  ASSERT_EQ(c.windows.num_windows(), 49u);
-  EXPECT_EQ(covered(c.windows), 49 - 14);
+  // along x and y in some order): two rows or columns of them span the cut at 0. Of the second
+  // level's 4 × 4, of 64 mm at 32 mm steps, two (from −50 and −18 mm) do.
+  ASSERT_EQ(c.windows.num_levels(), 2);
+  ASSERT_EQ(c.windows.level_windows(0), 49u);
+  ASSERT_EQ(c.windows.level_windows(1), 16u);
+  EXPECT_EQ(covered(c.windows, 0), 49 - 14);
+  EXPECT_EQ(covered(c.windows, 1), 16 - 8);
   EXPECT_GT(expect_every_close_pair_found(m), 100);
 }
 
@@ -275,9 +286,11 @@ TEST(UnfoldedWindows, AHoleUncoversTheWindowsAroundItOnly) {
   m.faces = kept.topRows(k);
   const Culling c(m);
   // 7 × 7 windows of 32 mm at 16 mm steps from −50 mm: three rows and three columns of them
-  // reach into the hole (−5 to 5 mm), the rest are covered once.
-  ASSERT_EQ(c.windows.num_windows(), 49u);
-  EXPECT_EQ(covered(c.windows), 49 - 9);
+  // reach into the hole (−5 to 5 mm), the rest are covered once; of the second level's 4 × 4,
+  // of 64 mm at 32 mm steps, two rows and two columns.
+  ASSERT_EQ(c.windows.level_windows(0), 49u);
+  EXPECT_EQ(covered(c.windows, 0), 49 - 9);
+  EXPECT_EQ(covered(c.windows, 1), 16 - 4);
 }
 
 TEST(Bvh, AFlaggedWindowLeavesOutThePairsOfNodesWithinItOnly) {
@@ -304,4 +317,40 @@ TEST(Bvh, AFlaggedWindowLeavesOutThePairsOfNodesWithinItOnly) {
       EXPECT_EQ(found[k].b, expected[k].b);
     }
   }
+}
+
+TEST(UnfoldedWindows, APairTooWideForTheFirstLevelIsAskedOfTheSecond) {
+  // A wavy sheet, every window of both levels flagged: a pair of nodes is left out exactly when
+  // its rest boxes together span at most two cells of the first level (16 mm) or, failing that,
+  // of the second (32 mm) on each axis, the cells counted from the sheet's rest corner.
+  const CollisionMesh m = wavy_sheet(40, 4e-3, 50e-3);
+  const Culling c(m);
+  ASSERT_EQ(c.windows.num_levels(), 2);
+  ASSERT_EQ(flagged(c.windows), static_cast<int>(c.windows.num_windows()));
+  const std::vector<double>& box = c.subtrees.rest_boxes();
+  const auto cells = [&](int i, int j, int level, int axis) {
+    const auto cell = [&](double u) {
+      return static_cast<int>(std::floor((u - box[static_cast<std::size_t>(axis)]) / kStride)) >>
+             level;
+    };
+    const auto at = [&](int node, int k) { return box[4 * static_cast<std::size_t>(node) + k]; };
+    const auto a = static_cast<std::size_t>(axis);
+    return cell(std::max(at(i, 2 + a), at(j, 2 + a))) - cell(std::min(at(i, a), at(j, a))) + 1;
+  };
+  int first = 0, second = 0, neither = 0;
+  for (int i = 0; i < c.bvh.num_nodes(); ++i) {
+    if (c.bvh.subtree_faces(i) < 8 || c.bvh.subtree_faces(i) > 256) continue;
+    for (int j = i; j < c.bvh.num_nodes(); j += 7) {
+      if (c.bvh.subtree_faces(j) < 8 || c.bvh.subtree_faces(j) > 256) continue;
+      const bool fits_first = cells(i, j, 0, 0) <= 2 && cells(i, j, 0, 1) <= 2;
+      const bool fits_second = cells(i, j, 1, 0) <= 2 && cells(i, j, 1, 1) <= 2;
+      first += fits_first;
+      second += !fits_first && fits_second;
+      neither += !fits_first && !fits_second;
+      EXPECT_EQ(c.windows.skips(i, j), fits_first || fits_second) << i << " " << j;
+    }
+  }
+  EXPECT_GT(first, 100);
+  EXPECT_GT(second, 100);
+  EXPECT_GT(neither, 100);
 }
