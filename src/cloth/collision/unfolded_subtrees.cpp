@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "cloth/collision/rest_neighbours.hpp"
@@ -136,6 +137,15 @@ void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const B
     }
     finish(rm);
   }
+  m_fitted.assign(static_cast<std::size_t>(m_nodes), -1);
+  int fitted = 0;
+  for (int i = 0; i < m_nodes; ++i)
+    if (within[static_cast<std::size_t>(i)] == 0 && bvh.leaf_face(i) < 0)
+      m_fitted[static_cast<std::size_t>(i)] = fitted++;
+  for (Fits& f : m_fits) {
+    f.fit.assign(static_cast<std::size_t>(fitted), Fit());
+    f.valid = false;
+  }
   m_flags.assign(static_cast<std::size_t>(m_nodes), 0);
 }
 
@@ -255,94 +265,117 @@ double UnfoldedSubtrees::residual(int i, const Points& x, const Fit& ft,
   return std::sqrt(worst);
 }
 
-UnfoldedSubtrees::Node UnfoldedSubtrees::visit_base(int i) const {
-  Node n;
+UnfoldedSubtrees::Moments UnfoldedSubtrees::fit_base(int i, const Points& x,
+                                                     std::vector<Fit>& fits) const {
+  Moments mo;
   const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
   const int* begin = m_vertices.data() + m_vertex_begin[static_cast<std::size_t>(i)];
   const int* end = m_vertices.data() + m_vertex_end[static_cast<std::size_t>(i)];
-  for (int s = 0; s < 2 && m_x[s] != nullptr; ++s) {
-    const Points& x = *m_x[s];
-    Moments& mo = n.moments[s];
-    for (const int* v = begin; v != end; ++v) {
-      const double u0 = m_uv[static_cast<std::size_t>(2 * *v)];
-      const double u1 = m_uv[static_cast<std::size_t>(2 * *v + 1)];
-      for (int d = 0; d < 3; ++d) {
-        const double xd = x(*v, d);
-        mo.sx[d] += xd;
-        mo.sxu[d][0] += xd * u0;
-        mo.sxu[d][1] += xd * u1;
-      }
-    }
-    Fit& ft = n.fit[s];
-    ft = fit(mo, rest);
-    if (ft.rho < kInfinity) ft.rho = residual(i, x, ft, rest);
-  }
-  return n;
-}
-
-UnfoldedSubtrees::Node UnfoldedSubtrees::combine(int i, int l, int r, const Node& left,
-                                                 const Node& right, bool measure) const {
-  Node n;
-  const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
-  const RestMoments& rest_l = m_rest[static_cast<std::size_t>(l)];
-  const RestMoments& rest_r = m_rest[static_cast<std::size_t>(r)];
-  for (int s = 0; s < 2 && m_x[s] != nullptr; ++s) {
-    Moments& mo = n.moments[s];
-    const Moments& ml = left.moments[s];
-    const Moments& mr = right.moments[s];
+  for (const int* v = begin; v != end; ++v) {
+    const double u0 = m_uv[static_cast<std::size_t>(2 * *v)];
+    const double u1 = m_uv[static_cast<std::size_t>(2 * *v + 1)];
     for (int d = 0; d < 3; ++d) {
-      mo.sx[d] = ml.sx[d] + mr.sx[d];
-      mo.sxu[d][0] = ml.sxu[d][0] + mr.sxu[d][0];
-      mo.sxu[d][1] = ml.sxu[d][1] + mr.sxu[d][1];
+      const double xd = x(*v, d);
+      mo.sx[d] += xd;
+      mo.sxu[d][0] += xd * u0;
+      mo.sxu[d][1] += xd * u1;
     }
-    Fit& ft = n.fit[s];
-    ft = fit(mo, rest);
-    if (ft.rho == kInfinity) continue;
-    if (measure) {
-      ft.rho = residual(i, *m_x[s], ft, rest);
-      continue;
-    }
-    ft.rho = std::max(left.fit[s].rho + deviation(left.fit[s], rest_l.u, ft, rest.u,
-                                                  &m_box[static_cast<std::size_t>(4 * l)]),
-                      right.fit[s].rho + deviation(right.fit[s], rest_r.u, ft, rest.u,
-                                                   &m_box[static_cast<std::size_t>(4 * r)]));
   }
-  return n;
+  Fit& ft = fits[static_cast<std::size_t>(m_fitted[static_cast<std::size_t>(i)])];
+  ft = fit(mo, rest);
+  if (ft.rho < kInfinity) ft.rho = residual(i, x, ft, rest);
+  return mo;
 }
 
-UnfoldedSubtrees::Node UnfoldedSubtrees::visit(const Bvh& bvh, int i) {
-  if (bvh.subtree_faces(i) <= kBaseFaces) {
-    Node n = visit_base(i);
-    flag(i, n);
-    return n;
-  }
+UnfoldedSubtrees::Moments UnfoldedSubtrees::fit_inner(const Bvh& bvh, int i, const Moments& left,
+                                                      const Moments& right, const Points& x,
+                                                      std::vector<Fit>& fits) const {
   const int l = i + 1, r = bvh.right_child(i);
-  const Node n =
-      combine(i, l, r, visit(bvh, l), visit(bvh, r), bvh.subtree_faces(i) <= kMeasuredFaces);
-  flag(i, n);
-  return n;
+  Moments mo;
+  for (int d = 0; d < 3; ++d) {
+    mo.sx[d] = left.sx[d] + right.sx[d];
+    mo.sxu[d][0] = left.sxu[d][0] + right.sxu[d][0];
+    mo.sxu[d][1] = left.sxu[d][1] + right.sxu[d][1];
+  }
+  const RestMoments& rest = m_rest[static_cast<std::size_t>(i)];
+  Fit& ft = fits[static_cast<std::size_t>(m_fitted[static_cast<std::size_t>(i)])];
+  ft = fit(mo, rest);
+  if (ft.rho == kInfinity) return mo;
+  if (bvh.subtree_faces(i) <= kMeasuredFaces) {
+    ft.rho = residual(i, x, ft, rest);
+    return mo;
+  }
+  const Fit& fl = fits[static_cast<std::size_t>(m_fitted[static_cast<std::size_t>(l)])];
+  const Fit& fr = fits[static_cast<std::size_t>(m_fitted[static_cast<std::size_t>(r)])];
+  ft.rho = std::max(fl.rho + deviation(fl, m_rest[static_cast<std::size_t>(l)].u, ft, rest.u,
+                                       &m_box[static_cast<std::size_t>(4 * l)]),
+                    fr.rho + deviation(fr, m_rest[static_cast<std::size_t>(r)].u, ft, rest.u,
+                                       &m_box[static_cast<std::size_t>(4 * r)]));
+  return mo;
 }
 
-void UnfoldedSubtrees::flag(int i, const Node& n) {
-  double sigma = sigma_min(n.fit[0].f), rho = n.fit[0].rho;
-  if (m_x[1] != nullptr) {
-    sigma = std::min(sigma, sigma_min(n.fit[1].f)) - 0.5 * difference_norm(n.fit[0].f, n.fit[1].f);
-    rho = std::max(rho, n.fit[1].rho);
+UnfoldedSubtrees::Moments UnfoldedSubtrees::fit_subtree(const Bvh& bvh, int i, const Points& x,
+                                                        std::vector<Fit>& fits) const {
+  if (bvh.subtree_faces(i) <= kBaseFaces) return fit_base(i, x, fits);
+  const Moments left = fit_subtree(bvh, i + 1, x, fits);
+  const Moments right = fit_subtree(bvh, bvh.right_child(i), x, fits);
+  return fit_inner(bvh, i, left, right, x, fits);
+}
+
+void UnfoldedSubtrees::flag(int begin, int end, const Fits& at0, const Fits* at1) {
+  for (int i = begin; i < end; ++i) {
+    const int k = m_fitted[static_cast<std::size_t>(i)];
+    if (k < 0) continue;
+    const Fit& f0 = at0.fit[static_cast<std::size_t>(k)];
+    double sigma = sigma_min(f0.f), rho = f0.rho;
+    if (at1 != nullptr) {
+      const Fit& f1 = at1->fit[static_cast<std::size_t>(k)];
+      sigma = std::min(sigma, sigma_min(f1.f)) - 0.5 * difference_norm(f0.f, f1.f);
+      rho = std::max(rho, f1.rho);
+    }
+    m_flags[static_cast<std::size_t>(i)] = sigma * m_distance - 2.0 * rho >= m_needed;
   }
-  m_flags[static_cast<std::size_t>(i)] = sigma * m_distance - 2.0 * rho >= m_needed;
+}
+
+const UnfoldedSubtrees::Fits& UnfoldedSubtrees::fits_at(const Bvh& bvh, const Points& x,
+                                                        const Fits* busy, WorkerPool* pool) {
+  const auto bytes = static_cast<std::size_t>(x.size()) * sizeof(double);
+  for (int k = 0; k < 2; ++k) {
+    const Fits& f = m_fits[k];
+    if (f.valid && f.x.rows() == x.rows() && std::memcmp(f.x.data(), x.data(), bytes) == 0) {
+      m_recent = k;
+      return f;
+    }
+  }
+  // Into the set used less recently, unless the update holds it.
+  const int target = &m_fits[1 - m_recent] == busy ? m_recent : 1 - m_recent;
+  Fits& f = m_fits[target];
+  m_recent = target;
+  f.x = x;
+  // The root's two subtrees each on a thread of its own where the tree is worth it.
+  const int l = 1, r = bvh.right_child(0);
+  const bool threaded =
+      pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces;
+  Moments children[2];
+  for_each_index(threaded ? pool : nullptr, 2,
+                 [&](std::size_t k) { children[k] = fit_subtree(bvh, k == 0 ? l : r, x, f.fit); });
+  fit_inner(bvh, 0, children[0], children[1], x, f.fit);
+  f.valid = true;
+  return f;
 }
 
 void UnfoldedSubtrees::run(const Bvh& bvh, WorkerPool* pool) {
   std::fill(m_flags.begin(), m_flags.end(), 0);
   if (!(m_distance > m_needed) || bvh.subtree_faces(0) <= kBaseFaces) return;
-  // The root's two subtrees each on a thread of its own where the tree is worth it.
-  const int l = 1, r = bvh.right_child(0);
+  const Fits& at0 = fits_at(bvh, *m_x[0], nullptr, pool);
+  const Fits* at1 = m_x[1] != nullptr ? &fits_at(bvh, *m_x[1], &at0, pool) : nullptr;
+  // The flags of the root's two subtrees on two threads, then the root's.
+  const int r = bvh.right_child(0);
   const bool threaded =
       pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces;
-  Node children[2];
   for_each_index(threaded ? pool : nullptr, 2,
-                 [&](std::size_t k) { children[k] = visit(bvh, k == 0 ? l : r); });
-  flag(0, combine(0, l, r, children[0], children[1], bvh.subtree_faces(0) <= kMeasuredFaces));
+                 [&](std::size_t k) { flag(k == 0 ? 1 : r, k == 0 ? r : m_nodes, at0, at1); });
+  flag(0, 1, at0, at1);
 }
 
 void UnfoldedSubtrees::update(const Bvh& bvh, const Points& x, double rest_distance, double reach,

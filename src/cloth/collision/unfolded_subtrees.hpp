@@ -22,6 +22,10 @@ namespace dexcloth::collision {
 ///
 /// Over a step's linear motion x0 → x1 the maps interpolate too: at time t every vertex is within
 /// (1 − t)·ρ0 + t·ρ1 of (1 − t)·G0 + t·G1, whose σ_min is at least min(σ0, σ1) − ‖F1 − F0‖/2.
+///
+/// The fits of the last two positions an update saw are kept: positions bitwise equal to one of
+/// them (a swept search's x0, which is the last one's x1 or, in the impact zones' next round, its
+/// own x0) are not fitted again.
 class UnfoldedSubtrees {
  public:
   /// Rest-plane coordinates of `rest` (|V|×3) and the rest boxes of `bvh`'s nodes over `faces`.
@@ -73,25 +77,35 @@ class UnfoldedSubtrees {
     double u[2]{};        // ū
     double inverse[3]{};  // of their covariance, {00, 01, 11}; all 0: degenerate, no fit
   };
-  struct Node {  // of x0 and, in a swept update, x1
-    Moments moments[2];
-    Fit fit[2];
+  // The fits of the nodes at and above the base subtrees (by m_fitted) at positions x, kept for
+  // the next update: a swept search's x0 is the last one's x1 (the step's end is the next one's
+  // start) or its own x0 (the impact zones' rounds), and a fit depends on its positions alone.
+  struct Fits {
+    Points x;  // the positions they are for
+    std::vector<Fit> fit;
+    bool valid{};
   };
   static void finish(RestMoments& rest);
   static Fit fit(const Moments& mo, const RestMoments& rest);
   // Largest |G_c(u) − G_n(u)| over the corners of rest box `box` {u0 lo, u1 lo, u0 hi, u1 hi}.
   static double deviation(const Fit& c, const double* uc, const Fit& n, const double* un,
                           const double* box);
-  // The moments and fits of node i from its children's, with ρ measured (`measure`) or bounded
-  // through theirs.
-  Node combine(int i, int l, int r, const Node& left, const Node& right, bool measure) const;
-  // Node i's moments and fits, its descendants flagged on the way.
-  Node visit(const Bvh& bvh, int i);
+  // Node i's moments at x, its fit and those of its descendants down to the base subtrees
+  // stored in `fits` (ρ measured at the vertices up to kMeasuredFaces, bounded through the
+  // children's fits above).
+  Moments fit_subtree(const Bvh& bvh, int i, const Points& x, std::vector<Fit>& fits) const;
   // The same for a base subtree, from its vertices.
-  Node visit_base(int i) const;
+  Moments fit_base(int i, const Points& x, std::vector<Fit>& fits) const;
+  // Node i's moments and fit from its children's.
+  Moments fit_inner(const Bvh& bvh, int i, const Moments& left, const Moments& right,
+                    const Points& x, std::vector<Fit>& fits) const;
   // The largest distance of node i's vertices at x from fit `ft` (with rest moments `rest`).
   double residual(int i, const Points& x, const Fit& ft, const RestMoments& rest) const;
-  void flag(int i, const Node& n);
+  // Flags every fitted node of the subtrees [begin, end) from the fits of x0 (and x1).
+  void flag(int begin, int end, const Fits& at0, const Fits* at1);
+  // The fits at `x`: kept ones if made for the same positions (bitwise), else fitted anew on
+  // `pool` into the kept set not in `busy` (null: either).
+  const Fits& fits_at(const Bvh& bvh, const Points& x, const Fits* busy, WorkerPool* pool);
   void run(const Bvh& bvh, WorkerPool* pool);
   // The least distance in the rest plane between two primitives that share no vertex [m].
   double least_separation(const Triangles& faces, const MeshTopology& topology) const;
@@ -105,6 +119,9 @@ class UnfoldedSubtrees {
   // The vertices of node i: m_vertices[m_vertex_begin[i] .. m_vertex_end[i]), each base
   // subtree's once (a subtree's base subtrees are listed together).
   std::vector<int> m_vertex_begin, m_vertex_end, m_vertices;
+  std::vector<int> m_fitted;  // per node: its index in Fits::fit, or −1 (within a base subtree)
+  Fits m_fits[2];             // the last two positions' fits
+  int m_recent{};             // the one used last
   // Of the update running:
   const Points* m_x[2]{};  // positions (x1 null: not swept)
   double m_distance{};     // rest distance less the flatness allowance [m]

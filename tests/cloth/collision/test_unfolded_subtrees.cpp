@@ -221,6 +221,62 @@ TEST(UnfoldedSubtrees, TheSweptSearchKeepsAVertexPokedThroughTheNextTriangle) {
   EXPECT_GT(expect_every_collision_found(flip).first, 100);
 }
 
+TEST(UnfoldedSubtrees, KeptFitsFlagAsFreshOnes) {
+  // A sheet waving through a run of steps, searched as a step does: each step's swept update
+  // from the last one's end, a second round of the impact zones with the end moved, a proximity
+  // update at the step's start, and a start one rounding unit off the last end. Every update
+  // of the one object (whose fits at positions it has seen are reused) flags as an object
+  // updated there alone.
+  const CollisionMesh base = sheet();
+  Bvh bvh;
+  bvh.build(base.faces, base.x0, base.x0, 0.5 * kReach);
+  const MeshTopology topology = build_topology(base.faces, static_cast<int>(base.x0.rows()));
+  const auto at = [&](double t) {
+    Points x = base.rest;
+    for (int v = 0; v < x.rows(); ++v) {
+      const double u = base.rest(v, 0), w = base.rest(v, 1);
+      x(v, 2) = (0.6e-3 + 0.5e-3 * t) * std::sin(180.0 * u + 3.0 * t) * std::cos(140.0 * w - t);
+      x(v, 0) += 0.4e-3 * t * std::cos(150.0 * w);
+    }
+    return x;
+  };
+  UnfoldedSubtrees kept;
+  kept.build(base.rest, base.faces, bvh);
+  const double swept_reach = 1e-3;
+  const auto fresh_swept = [&](const Points& x0, const Points& x1) {
+    UnfoldedSubtrees u;
+    u.build(base.rest, base.faces, bvh);
+    u.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
+    return u.flags();
+  };
+  const auto fresh = [&](const Points& x) {
+    UnfoldedSubtrees u;
+    u.build(base.rest, base.faces, bvh);
+    u.update(bvh, x, kRestDistance, kReach);
+    return u.flags();
+  };
+  std::set<std::vector<std::uint8_t>> seen;
+  int flagged = 0;
+  for (int step = 0; step < 6; ++step) {
+    Points x0 = at(step), x1 = at(step + 1);
+    if (step == 4) x0(17, 1) = std::nextafter(x0(17, 1), 1.0);  // not the last end
+    kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
+    EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
+    seen.insert(kept.flags());
+    flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
+    x1(40, 2) += 2e-3;  // the impact zones' next round: the same start, another end
+    kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
+    EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
+    seen.insert(kept.flags());
+    kept.update(bvh, x0, kRestDistance, kReach);
+    EXPECT_EQ(kept.flags(), fresh(x0)) << step;
+    seen.insert(kept.flags());
+    flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
+  }
+  EXPECT_GE(seen.size(), 6u);
+  EXPECT_GT(flagged, 100);
+}
+
 TEST(Bvh, ASkippedNodeLeavesOutThePairsWithinItsSubtreeOnly) {
   // A flat sheet's self query with one flagged node: exactly the pairs whose faces both lie
   // under it go, split into pieces or not.
