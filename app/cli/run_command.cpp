@@ -49,14 +49,15 @@ struct FrameLog {
   int contacts_max{};
   int patches_max{};
   int vr_max{};
+  std::vector<collision::Bvh> trees;  // of the intersection count, refit from frame to frame
 };
 
 /// Number of intersecting triangle pairs (cloth–cloth, cloth–rigid) in the state collision
 /// handling resolved.
-int count_intersections(coupling::WorldData& data) {
+int count_intersections(coupling::WorldData& data, std::vector<collision::Bvh>& trees) {
   std::vector<const collision::CollisionMesh*> meshes;
   for (const collision::CollisionMesh& m : data.meshes) meshes.push_back(&m);
-  return collision::count_intersections(meshes, /*use_x1=*/true, data.pool.get());
+  return collision::count_intersections(meshes, /*use_x1=*/true, trees, data.pool.get());
 }
 
 void record_frame(const scene::CompiledScene& compiled, coupling::WorldData& data,
@@ -68,7 +69,8 @@ void record_frame(const scene::CompiledScene& compiled, coupling::WorldData& dat
                                     : data.rigid.world->probe_W(probe.body, probe.point);
     log.samples[p].push_back({data.time, x.x(), x.y(), x.z()});
   }
-  if (data.step > 0) log.intersections_max = std::max(log.intersections_max, count_intersections(data));
+  if (data.step > 0)
+    log.intersections_max = std::max(log.intersections_max, count_intersections(data, log.trees));
 }
 
 double median(std::vector<double> values) {

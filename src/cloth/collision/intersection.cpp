@@ -82,11 +82,22 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
 
 int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
                         WorkerPool* pool) {
+  std::vector<Bvh> trees;
+  return count_intersections(meshes, use_x1, trees, pool);
+}
+
+int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
+                        std::vector<Bvh>& bvhs, WorkerPool* pool) {
   const std::size_t nm = meshes.size();
-  std::vector<Bvh> bvhs(nm);
+  bvhs.resize(nm);
   for (std::size_t m = 0; m < nm; ++m) {
     const Points& x = use_x1 ? meshes[m]->x1 : meshes[m]->x0;
-    bvhs[m].build(meshes[m]->faces, x, x, 0.0);
+    const Triangles& faces = meshes[m]->faces;
+    if (bvhs[m].num_faces() == faces.rows() && !(bvhs[m].empty() && faces.rows() > 0)) {
+      bvhs[m].refit(faces, x, x, 0.0);
+    } else {
+      bvhs[m].build(faces, x, x, 0.0);
+    }
   }
   std::atomic<int> count{0};
   std::vector<BvhQuery> queries;

@@ -3,6 +3,7 @@
 /// intersection count used to check that collision handling left no interpenetration.
 #include <vector>
 
+#include "cloth/collision/bvh.hpp"
 #include "cloth/collision/collision_mesh.hpp"
 #include "core/types.hpp"
 #include "core/worker_pool.hpp"
@@ -25,5 +26,10 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
 /// own BVHs (diagnostic use). With a `pool`, large searches run on its threads (same count).
 int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
                         WorkerPool* pool = nullptr);
+/// The same with the meshes' BVHs kept in `trees` from one call to the next (a recording's
+/// frames): a mesh's tree is refit to its positions, or built anew where its number of faces
+/// changed. Any tree over a mesh's faces finds the same pairs, so the count is the same.
+int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool use_x1,
+                        std::vector<Bvh>& trees, WorkerPool* pool = nullptr);
 
 }  // namespace dexcloth::collision

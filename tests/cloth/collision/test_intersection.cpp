@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include "cloth/collision/intersection.hpp"
 #include "cloth/collision/predicates.hpp"
@@ -156,4 +158,35 @@ TEST(CountIntersections, OnAPoolTheCountIsTheSame) {
     WorkerPool pool(threads);
     EXPECT_EQ(count_intersections(meshes, false, &pool), serial) << threads << " threads";
   }
+}
+
+TEST(CountIntersections, KeptTreesCountAsFreshOnes) {
+  // The second sheet turned in the first one's plane through a run of frames (the crossing
+  // line turns, and with it the pairs along it), the trees kept from frame to frame and refit;
+  // then a mesh with fewer faces in its place, whose tree must be built anew. Each count is a
+  // fresh one's. (Without self-collision: the flat sheets' own touching pairs are slow to test
+  // exactly and cross nothing.)
+  CollisionMesh a = crossing_sheet(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY());
+  a.self_collision = false;
+  std::vector<Bvh> trees;
+  std::set<int> counts;
+  for (int frame = 0; frame < 6; ++frame) {
+    const double angle = 0.1 * frame;
+    CollisionMesh b =
+        crossing_sheet(Vec3(0.013, 0.007, 0.0), Vec3(std::cos(angle), std::sin(angle), 0.0),
+                       Vec3(-0.6 * std::sin(angle), 0.6 * std::cos(angle), 0.8));
+    b.self_collision = false;
+    const std::vector<const CollisionMesh*> meshes{&a, &b};
+    const int fresh = count_intersections(meshes, false);
+    EXPECT_EQ(count_intersections(meshes, false, trees), fresh) << frame;
+    counts.insert(fresh);
+  }
+  EXPECT_GE(counts.size(), 3u);
+  CollisionMesh c = crossing_sheet(Vec3(0.013, 0.007, 0.25), Vec3::UnitX(), Vec3::UnitZ());
+  c.faces.conservativeResize(c.faces.rows() / 2, 3);  // its lower half, across the first sheet
+  c.self_collision = false;
+  const std::vector<const CollisionMesh*> halved{&a, &c};
+  const int fresh = count_intersections(halved, false);
+  EXPECT_GT(fresh, 0);
+  EXPECT_EQ(count_intersections(halved, false, trees), fresh);
 }
