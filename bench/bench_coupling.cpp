@@ -14,9 +14,10 @@
 ///   20 steps from 2.2 s (the sheet hanging in wrinkles from the pinch, its self query the
 ///   step's largest search), taken in turn without stepping: the proximity search
 ///   (find_proximities, at x0) and the impact zones' swept candidates (x0 → x1), each step's
-///   x0 the last one's x1 as in a run (so that what the searches keep from one step to the next
-///   counts as it does there). Counters: proximity_ms, swept_ms, and the candidates and
-///   proximities found (means over the steps). Argument: threads of the searches (1, 2).
+///   x0 the last one's x1 as in a run (so that what the searches keep from one step to the next,
+///   and share as the step has them share it, counts as it does there). Counters: proximity_ms,
+///   swept_ms, and the candidates and proximities found (means over the steps). Argument: threads
+///   of the searches (1, 2).
 /// Run (Release):
 ///   build/bench/bench_coupling
 #include <benchmark/benchmark.h>
@@ -149,6 +150,7 @@ void BM_PinchMoveSearches(benchmark::State& bench) {
   collision::CollisionCandidates proximity, swept;
   proximity.set_pool(threads > 1 ? &pool : nullptr);
   swept.set_pool(threads > 1 ? &pool : nullptr);
+  swept.share_fits(proximity);  // as the step has them
   std::vector<collision::Proximity> found;
   std::vector<std::vector<collision::Proximity>> scratch;
   const double ccd_tolerance = collision::ImpactZoneOptions{}.ccd_tolerance;

@@ -282,6 +282,9 @@ void step(const WorldModel& model, WorldData& data) {
   WorkerPool* pool = model.threads > 1 ? data.pool.get() : nullptr;
   data.contacts.candidates.set_pool(pool);
   data.impact_zones.set_pool(pool);
+  // The impact zones fit the step's end, where the next proximity search starts (never at the
+  // same time: the search runs beside the cloth's solve, the impact zones after it).
+  data.impact_zones.share_fits(data.contacts.candidates);
   Stopwatch clock;
   const int cloths = static_cast<int>(model.cloths.size());
   const bool bai_liu = model.mode == CouplingMode::bai_liu;

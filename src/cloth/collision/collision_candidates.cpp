@@ -100,6 +100,11 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       unfolded.build(mesh.rest, mesh.faces, m_bvh[m]);
       m_mean_edge[m] = mean_edge(unfolded.rest_plane(), m_topology[m]);
     }
+    if (m_kept_fits) {
+      while (m_kept_fits->size() <= m)
+        m_kept_fits->push_back(std::make_unique<UnfoldedSubtrees::KeptFits>());
+      unfolded.keep_fits_in((*m_kept_fits)[m].get());
+    }
     // The stride: the rest extent of two faces about to be in reach, so that most face pairs
     // the search finds fit in a window.
     const double stride = 2.0 * m_mean_edge[m] + 2.0 * margin;
@@ -162,6 +167,13 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
       collect(meshes, static_cast<int>(a), static_cast<int>(b));
     }
   }
+}
+
+void CollisionCandidates::share_fits(CollisionCandidates& other) {
+  if (!m_kept_fits) m_kept_fits = other.m_kept_fits;
+  if (!m_kept_fits)
+    m_kept_fits = std::make_shared<std::vector<std::unique_ptr<UnfoldedSubtrees::KeptFits>>>();
+  other.m_kept_fits = m_kept_fits;
 }
 
 void CollisionCandidates::set_rest_neighbour_distance(double distance) {

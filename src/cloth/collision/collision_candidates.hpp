@@ -2,6 +2,7 @@
 /// Broad phase of collision handling: per-mesh BVHs and topology kept between steps, and the
 /// primitive pairs (vertex–face, edge–edge) whose face boxes overlap, each generated once.
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "cloth/collision/bvh.hpp"
@@ -60,6 +61,12 @@ class CollisionCandidates {
   void set_pool(WorkerPool* pool) { m_pool = pool; }
   /// The pool set by set_pool, or null.
   WorkerPool* pool() const { return m_pool; }
+  /// Keeps the unfolded subtrees' fits of this search's cloths where `other` keeps its own (a
+  /// search over the same meshes, never run at the same time as this one), so that positions
+  /// one of them fitted are not fitted again by the other: the step's proximity search at a
+  /// step's start and the impact zones' swept search, whose x1 is the next step's start. The
+  /// pairs found do not change.
+  void share_fits(CollisionCandidates& other);
   /// Leaves out the vertex–face and edge–edge pairs of one cloth closer than `distance` [m] in
   /// its rest shape (0: none left out), which the proximity search drops anyway (rest
   /// neighbours), without testing each.
@@ -71,6 +78,11 @@ class CollisionCandidates {
   const std::vector<EdgeEdgePair>& edge_edge() const { return m_ee; }
   /// Topology (edges, ownership) of mesh `m` as of the last `update`.
   const MeshTopology& topology(int m) const { return m_topology[static_cast<std::size_t>(m)]; }
+  /// Mesh m's unfolded subtrees as the last `update` left them, or null (none built).
+  const UnfoldedSubtrees* unfolded(int m) const {
+    const auto k = static_cast<std::size_t>(m);
+    return k < m_unfolded.size() && m_unfolded[k].num_nodes() > 0 ? &m_unfolded[k] : nullptr;
+  }
   /// The windows the last `update` left mesh m's self pairs out by, or null (none used).
   const UnfoldedWindows* windows(int m) const {
     return m_skip.size() > static_cast<std::size_t>(m) ? m_skip[static_cast<std::size_t>(m)].windows
@@ -91,6 +103,9 @@ class CollisionCandidates {
   double m_rest_distance{};
   std::vector<RestNeighbours> m_rest;                     // per mesh
   std::vector<UnfoldedSubtrees> m_unfolded;               // per mesh
+  // Per mesh, where its unfolded subtrees keep their fits, shared with another search (null:
+  // each keeps its own).
+  std::shared_ptr<std::vector<std::unique_ptr<UnfoldedSubtrees::KeptFits>>> m_kept_fits;
   std::vector<std::array<UnfoldedWindows, 2>> m_windows;  // per mesh: proximity, swept
   std::vector<double> m_mean_edge;  // per mesh: of its rest plane, when its subtrees were built
   std::vector<SelfSkip> m_skip;     // per mesh: what its self query leaves out

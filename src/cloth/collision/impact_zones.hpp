@@ -60,6 +60,8 @@ class ImpactZoneSolver {
   /// Runs the broad phase on `pool`'s threads (null: the calling thread); see
   /// CollisionCandidates::set_pool.
   void set_pool(WorkerPool* pool) { m_candidates.set_pool(pool); }
+  /// CollisionCandidates::share_fits: the swept search keeps its cloths' fits with `other`'s.
+  void share_fits(CollisionCandidates& other) { m_candidates.share_fits(other); }
 
  private:
   struct Corner {

@@ -142,11 +142,41 @@ void UnfoldedSubtrees::build(const Points& rest, const Triangles& faces, const B
   for (int i = 0; i < m_nodes; ++i)
     if (within[static_cast<std::size_t>(i)] == 0 && bvh.leaf_face(i) < 0)
       m_fitted[static_cast<std::size_t>(i)] = fitted++;
-  for (Fits& f : m_fits) {
-    f.fit.assign(static_cast<std::size_t>(fitted), Fit());
+  // The signature (FNV-1a) of what the fits depend on besides the positions: the tree's shape
+  // and leaves, the base subtrees' vertices and the rest plane.
+  std::uint64_t hash = 14695981039346656037ull;
+  const auto mix = [&](const void* data, std::size_t bytes) {
+    for (std::size_t k = 0; k < bytes; ++k) {
+      hash ^= static_cast<const unsigned char*>(data)[k];
+      hash *= 1099511628211ull;
+    }
+  };
+  for (int i = 0; i < m_nodes; ++i) {
+    const int node[2] = {bvh.right_child(i), bvh.leaf_face(i)};
+    mix(node, sizeof node);
+  }
+  mix(m_vertices.data(), m_vertices.size() * sizeof(int));
+  mix(m_uv.data(), m_uv.size() * sizeof(double));
+  m_signature = hash;
+  m_fitted_count = fitted;
+  m_shared = nullptr;
+  clear(m_own);
+  m_flags.assign(static_cast<std::size_t>(m_nodes), 0);
+}
+
+void UnfoldedSubtrees::clear(KeptFits& kept) const {
+  kept.tree = m_signature;
+  for (Fits& f : kept.sets) {
+    f.fit.assign(static_cast<std::size_t>(m_fitted_count), Fit());
     f.valid = false;
   }
-  m_flags.assign(static_cast<std::size_t>(m_nodes), 0);
+  kept.recent = 0;
+}
+
+void UnfoldedSubtrees::keep_fits_in(KeptFits* kept) {
+  if (kept == m_shared || kept == nullptr) return;
+  if (kept->tree == 0) clear(*kept);
+  if (kept->tree == m_signature) m_shared = kept;
 }
 
 double UnfoldedSubtrees::least_separation(const Triangles& faces,
@@ -339,18 +369,20 @@ void UnfoldedSubtrees::flag(int begin, int end, const Fits& at0, const Fits* at1
 
 const UnfoldedSubtrees::Fits& UnfoldedSubtrees::fits_at(const Bvh& bvh, const Points& x,
                                                         const Fits* busy, WorkerPool* pool) {
+  KeptFits& kept = this->kept();
   const auto bytes = static_cast<std::size_t>(x.size()) * sizeof(double);
   for (int k = 0; k < 2; ++k) {
-    const Fits& f = m_fits[k];
+    const Fits& f = kept.sets[k];
     if (f.valid && f.x.rows() == x.rows() && std::memcmp(f.x.data(), x.data(), bytes) == 0) {
-      m_recent = k;
+      kept.recent = k;
       return f;
     }
   }
   // Into the set used less recently, unless the update holds it.
-  const int target = &m_fits[1 - m_recent] == busy ? m_recent : 1 - m_recent;
-  Fits& f = m_fits[target];
-  m_recent = target;
+  const int target = &kept.sets[1 - kept.recent] == busy ? kept.recent : 1 - kept.recent;
+  Fits& f = kept.sets[target];
+  kept.recent = target;
+  ++m_fitted_sets;
   f.x = x;
   // The root's two subtrees each on a thread of its own where the tree is worth it.
   const int l = 1, r = bvh.right_child(0);

@@ -32,6 +32,8 @@ class UnfoldedSubtrees {
   /// A rest shape that is not planar gets a flatness allowance as large as its curvature, which
   /// leaves no subtree flagged.
   void build(const Points& rest, const Triangles& faces, const Bvh& bvh);
+  /// Nodes of the tree it was built for (0: not built).
+  int num_nodes() const { return m_nodes; }
   /// True when built for a tree of `bvh`'s node count.
   bool built_for(const Bvh& bvh) const { return m_nodes == bvh.num_nodes() && m_nodes > 0; }
   /// Flags the base subtrees of `bvh` (see kBaseFaces) and the nodes above them whose subtree
@@ -55,6 +57,17 @@ class UnfoldedSubtrees {
   /// The least distance in the rest plane between two primitives of `faces` that share no
   /// vertex [m] (computed on the first call after a build).
   double separation(const Triangles& faces, const MeshTopology& topology);
+
+  /// Where the fits of the last two position sets are kept: an UnfoldedSubtrees' own, or one
+  /// it shares with the UnfoldedSubtrees of another search over the same cloth (keep_fits_in).
+  struct KeptFits;
+  /// Keeps the fits in `kept` from now on, where another UnfoldedSubtrees of the same cloth
+  /// built over an equal tree keeps them too (the two never updated at once), so that positions
+  /// one of them fitted are not fitted again by the other. Ignored where `kept` holds the fits
+  /// of another tree or rest shape; a build goes back to the object's own.
+  void keep_fits_in(KeptFits* kept);
+  /// Position sets fitted so far (not found among the kept ones).
+  long fitted_sets() const { return m_fitted_sets; }
 
   /// Base subtrees, of up to this many faces under a bigger parent, get their fits from their
   /// vertices directly; the nodes within them are never flagged.
@@ -85,6 +98,18 @@ class UnfoldedSubtrees {
     std::vector<Fit> fit;
     bool valid{};
   };
+
+ public:
+  struct KeptFits {
+    std::uint64_t tree{};  // signature of the tree and rest plane they are for (0: none yet)
+    Fits sets[2];
+    int recent{};  // the set used last
+  };
+
+ private:
+  KeptFits& kept() { return m_shared != nullptr ? *m_shared : m_own; }
+  // Sets `kept` up empty for this object's tree.
+  void clear(KeptFits& kept) const;
   static void finish(RestMoments& rest);
   static Fit fit(const Moments& mo, const RestMoments& rest);
   // Largest |G_c(u) − G_n(u)| over the corners of rest box `box` {u0 lo, u1 lo, u0 hi, u1 hi}.
@@ -120,8 +145,11 @@ class UnfoldedSubtrees {
   // subtree's once (a subtree's base subtrees are listed together).
   std::vector<int> m_vertex_begin, m_vertex_end, m_vertices;
   std::vector<int> m_fitted;  // per node: its index in Fits::fit, or −1 (within a base subtree)
-  Fits m_fits[2];             // the last two positions' fits
-  int m_recent{};             // the one used last
+  int m_fitted_count{};       // nodes with an index
+  std::uint64_t m_signature{};  // of the tree and the rest plane, for sharing kept fits
+  KeptFits m_own;               // the fits kept, unless shared
+  KeptFits* m_shared{};         // the fits kept, shared (null: m_own)
+  long m_fitted_sets{};
   // Of the update running:
   const Points* m_x[2]{};  // positions (x1 null: not swept)
   double m_distance{};     // rest distance less the flatness allowance [m]

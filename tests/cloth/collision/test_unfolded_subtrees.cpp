@@ -255,26 +255,133 @@ TEST(UnfoldedSubtrees, KeptFitsFlagAsFreshOnes) {
     u.update(bvh, x, kRestDistance, kReach);
     return u.flags();
   };
-  std::set<std::vector<std::uint8_t>> seen;
+  // Distinct flag sets seen, told apart by the sum of their flagged nodes' indices.
+  std::set<long> seen;
+  const auto signature = [](const std::vector<std::uint8_t>& f) {
+    long sum = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) sum += f[i] != 0 ? static_cast<long>(i) : 0;
+    return sum;
+  };
   int flagged = 0;
   for (int step = 0; step < 6; ++step) {
     Points x0 = at(step), x1 = at(step + 1);
     if (step == 4) x0(17, 1) = std::nextafter(x0(17, 1), 1.0);  // not the last end
     kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
     EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
-    seen.insert(kept.flags());
+    seen.insert(signature(kept.flags()));
     flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
     x1(40, 2) += 2e-3;  // the impact zones' next round: the same start, another end
     kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
     EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
-    seen.insert(kept.flags());
+    seen.insert(signature(kept.flags()));
     kept.update(bvh, x0, kRestDistance, kReach);
     EXPECT_EQ(kept.flags(), fresh(x0)) << step;
-    seen.insert(kept.flags());
+    seen.insert(signature(kept.flags()));
     flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
   }
   EXPECT_GE(seen.size(), 6u);
   EXPECT_GT(flagged, 100);
+}
+
+TEST(UnfoldedSubtrees, TwoSearchesSharingTheirFitsFitEachPositionOnce) {
+  // A proximity search at each step's start and a swept search over the step, keeping their
+  // fits in one place as the step has them: the swept search finds the start fitted, the next
+  // proximity search its end, so six positions are fitted once each; every update flags as a
+  // fresh object's. An object over another tree (a smaller sheet) leaves the shared fits alone.
+  const CollisionMesh m = sheet();
+  Bvh bvh;
+  bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
+  const MeshTopology topology = build_topology(m.faces, static_cast<int>(m.x0.rows()));
+  const auto at = [&](double t) {
+    Points x = m.rest;
+    for (int v = 0; v < x.rows(); ++v)
+      x(v, 2) = (0.5e-3 + 0.4e-3 * t) * std::sin(160.0 * m.rest(v, 0) + t) *
+                std::cos(120.0 * m.rest(v, 1));
+    return x;
+  };
+  const double swept_reach = 1e-3;
+  UnfoldedSubtrees proximity, swept, fresh;
+  for (UnfoldedSubtrees* u : {&proximity, &swept, &fresh}) u->build(m.rest, m.faces, bvh);
+  UnfoldedSubtrees::KeptFits kept;
+  proximity.keep_fits_in(&kept);
+  swept.keep_fits_in(&kept);
+  const CollisionMesh small = sheet(8);
+  Bvh small_bvh;
+  small_bvh.build(small.faces, small.x0, small.x0, 0.5 * kReach);
+  UnfoldedSubtrees other;
+  other.build(small.rest, small.faces, small_bvh);
+  other.keep_fits_in(&kept);
+  int flagged = 0;
+  for (int step = 0; step < 5; ++step) {
+    const Points x0 = at(step), x1 = at(step + 1);
+    proximity.update(bvh, x0, kRestDistance, kReach);
+    fresh = UnfoldedSubtrees();
+    fresh.build(m.rest, m.faces, bvh);
+    fresh.update(bvh, x0, kRestDistance, kReach);
+    EXPECT_EQ(proximity.flags(), fresh.flags()) << step;
+    other.update(small_bvh, small.x0, kRestDistance, kReach);
+    swept.update_swept(bvh, m.faces, topology, x0, x1, swept_reach);
+    fresh = UnfoldedSubtrees();
+    fresh.build(m.rest, m.faces, bvh);
+    fresh.update_swept(bvh, m.faces, topology, x0, x1, swept_reach);
+    EXPECT_EQ(swept.flags(), fresh.flags()) << step;
+    flagged += static_cast<int>(std::count(swept.flags().begin(), swept.flags().end(), 1));
+  }
+  EXPECT_EQ(proximity.fitted_sets(), 1);
+  EXPECT_EQ(swept.fitted_sets(), 5);
+  EXPECT_EQ(other.fitted_sets(), 1);
+  EXPECT_GT(flagged, 100);
+}
+
+TEST(UnfoldedSubtrees, TheCandidatesOfSearchesSharingTheirFitsAreTheirOwn) {
+  // Two CollisionCandidates sharing their fits (share_fits), searched as a step searches: the
+  // pairs each finds are those of one that keeps its own, and the swept search fits only the
+  // steps' ends.
+  CollisionMesh m = sheet();
+  const auto at = [&](double t) {  // waving, its right part folded back 2 mm over it
+    Points x = m.rest;
+    for (int v = 0; v < x.rows(); ++v) {
+      x(v, 2) = 0.5e-3 * std::sin(250.0 * m.rest(v, 0) + t) * std::cos(200.0 * m.rest(v, 1));
+      if (x(v, 0) > 0.02) x.row(v) << 0.04 - x(v, 0), x(v, 1), 2e-3 - x(v, 2);
+    }
+    return x;
+  };
+  CollisionCandidates proximity, swept, own_proximity, own_swept;
+  for (CollisionCandidates* c : {&proximity, &own_proximity})
+    c->set_rest_neighbour_distance(kRestDistance);
+  swept.share_fits(proximity);
+  const auto same = [](const CollisionCandidates& a, const CollisionCandidates& b) {
+    if (a.vertex_face().size() != b.vertex_face().size() ||
+        a.edge_edge().size() != b.edge_edge().size())
+      return false;
+    for (std::size_t k = 0; k < a.vertex_face().size(); ++k)
+      if (a.vertex_face()[k].vertex != b.vertex_face()[k].vertex ||
+          a.vertex_face()[k].face != b.vertex_face()[k].face)
+        return false;
+    for (std::size_t k = 0; k < a.edge_edge().size(); ++k)
+      if (a.edge_edge()[k].edge_a != b.edge_edge()[k].edge_a ||
+          a.edge_edge()[k].edge_b != b.edge_edge()[k].edge_b)
+        return false;
+    return true;
+  };
+  std::size_t pairs = 0;
+  for (int step = 0; step < 4; ++step) {
+    m.x0 = at(step);
+    m.x1 = m.x0;
+    proximity.update({&m}, false, 0.5 * kReach);
+    own_proximity.update({&m}, false, 0.5 * kReach);
+    EXPECT_TRUE(same(proximity, own_proximity)) << step;
+    m.x1 = at(step + 1);
+    swept.update({&m}, true, 0.5e-3);
+    own_swept.update({&m}, true, 0.5e-3);
+    EXPECT_TRUE(same(swept, own_swept)) << step;
+    pairs += proximity.vertex_face().size() + swept.edge_edge().size();
+  }
+  EXPECT_GT(pairs, 1000u);
+  ASSERT_NE(swept.unfolded(0), nullptr);
+  EXPECT_EQ(proximity.unfolded(0)->fitted_sets(), 1);
+  EXPECT_EQ(swept.unfolded(0)->fitted_sets(), 4);
+  EXPECT_EQ(own_swept.unfolded(0)->fitted_sets(), 5);
 }
 
 TEST(Bvh, ASkippedNodeLeavesOutThePairsWithinItsSubtreeOnly) {
