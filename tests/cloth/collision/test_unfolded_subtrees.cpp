@@ -49,6 +49,46 @@ struct Runs {
   }
 };
 
+/// The sheet with its tree, waving from step to step (waves that grow with t, and a growing
+/// shear), and the flags of a fresh UnfoldedSubtrees updated once.
+struct WavingSheet {
+  static constexpr double kSweptReach = 1e-3;
+  const CollisionMesh m = sheet();
+  Bvh bvh;
+  MeshTopology topology;
+
+  WavingSheet() {
+    bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
+    topology = build_topology(m.faces, static_cast<int>(m.x0.rows()));
+  }
+  /// The positions at time t.
+  Points at(double t) const {
+    Points x = m.rest;
+    for (int v = 0; v < x.rows(); ++v) {
+      const double u = m.rest(v, 0), w = m.rest(v, 1);
+      x(v, 2) = (0.6e-3 + 0.5e-3 * t) * std::sin(180.0 * u + 3.0 * t) * std::cos(140.0 * w - t);
+      x(v, 0) += 0.4e-3 * t * std::cos(150.0 * w);
+    }
+    return x;
+  }
+  /// An UnfoldedSubtrees of the sheet, built.
+  UnfoldedSubtrees subtrees() const {
+    UnfoldedSubtrees u;
+    u.build(m.rest, m.faces, bvh);
+    return u;
+  }
+  /// A fresh object's flags at x0 (proximity, `x1` null) or over x0 → x1 (swept).
+  std::vector<std::uint8_t> fresh_flags(const Points& x0, const Points* x1) const {
+    UnfoldedSubtrees u = subtrees();
+    if (x1 == nullptr) {
+      u.update(bvh, x0, kRestDistance, kReach);
+    } else {
+      u.update_swept(bvh, m.faces, topology, x0, *x1, kSweptReach);
+    }
+    return u.flags();
+  }
+};
+
 }  // namespace
 
 TEST(UnfoldedSubtrees, AFlatSheetMovedRigidlyAndStretchedIsOneSubtree) {
@@ -227,34 +267,8 @@ TEST(UnfoldedSubtrees, KeptFitsFlagAsFreshOnes) {
   // update at the step's start, and a start one rounding unit off the last end. Every update
   // of the one object (whose fits at positions it has seen are reused) flags as an object
   // updated there alone.
-  const CollisionMesh base = sheet();
-  Bvh bvh;
-  bvh.build(base.faces, base.x0, base.x0, 0.5 * kReach);
-  const MeshTopology topology = build_topology(base.faces, static_cast<int>(base.x0.rows()));
-  const auto at = [&](double t) {
-    Points x = base.rest;
-    for (int v = 0; v < x.rows(); ++v) {
-      const double u = base.rest(v, 0), w = base.rest(v, 1);
-      x(v, 2) = (0.6e-3 + 0.5e-3 * t) * std::sin(180.0 * u + 3.0 * t) * std::cos(140.0 * w - t);
-      x(v, 0) += 0.4e-3 * t * std::cos(150.0 * w);
-    }
-    return x;
-  };
-  UnfoldedSubtrees kept;
-  kept.build(base.rest, base.faces, bvh);
-  const double swept_reach = 1e-3;
-  const auto fresh_swept = [&](const Points& x0, const Points& x1) {
-    UnfoldedSubtrees u;
-    u.build(base.rest, base.faces, bvh);
-    u.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
-    return u.flags();
-  };
-  const auto fresh = [&](const Points& x) {
-    UnfoldedSubtrees u;
-    u.build(base.rest, base.faces, bvh);
-    u.update(bvh, x, kRestDistance, kReach);
-    return u.flags();
-  };
+  const WavingSheet w;
+  UnfoldedSubtrees kept = w.subtrees();
   // Distinct flag sets seen, told apart by the sum of their flagged nodes' indices.
   std::set<long> seen;
   const auto signature = [](const std::vector<std::uint8_t>& f) {
@@ -264,18 +278,18 @@ TEST(UnfoldedSubtrees, KeptFitsFlagAsFreshOnes) {
   };
   int flagged = 0;
   for (int step = 0; step < 6; ++step) {
-    Points x0 = at(step), x1 = at(step + 1);
+    Points x0 = w.at(step), x1 = w.at(step + 1);
     if (step == 4) x0(17, 1) = std::nextafter(x0(17, 1), 1.0);  // not the last end
-    kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
-    EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
+    kept.update_swept(w.bvh, w.m.faces, w.topology, x0, x1, w.kSweptReach);
+    EXPECT_EQ(kept.flags(), w.fresh_flags(x0, &x1)) << step;
     seen.insert(signature(kept.flags()));
     flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
     x1(40, 2) += 2e-3;  // the impact zones' next round: the same start, another end
-    kept.update_swept(bvh, base.faces, topology, x0, x1, swept_reach);
-    EXPECT_EQ(kept.flags(), fresh_swept(x0, x1)) << step;
+    kept.update_swept(w.bvh, w.m.faces, w.topology, x0, x1, w.kSweptReach);
+    EXPECT_EQ(kept.flags(), w.fresh_flags(x0, &x1)) << step;
     seen.insert(signature(kept.flags()));
-    kept.update(bvh, x0, kRestDistance, kReach);
-    EXPECT_EQ(kept.flags(), fresh(x0)) << step;
+    kept.update(w.bvh, x0, kRestDistance, kReach);
+    EXPECT_EQ(kept.flags(), w.fresh_flags(x0, nullptr)) << step;
     seen.insert(signature(kept.flags()));
     flagged += static_cast<int>(std::count(kept.flags().begin(), kept.flags().end(), 1));
   }
@@ -288,20 +302,8 @@ TEST(UnfoldedSubtrees, TwoSearchesSharingTheirFitsFitEachPositionOnce) {
   // fits in one place as the step has them: the swept search finds the start fitted, the next
   // proximity search its end, so six positions are fitted once each; every update flags as a
   // fresh object's. An object over another tree (a smaller sheet) leaves the shared fits alone.
-  const CollisionMesh m = sheet();
-  Bvh bvh;
-  bvh.build(m.faces, m.x0, m.x0, 0.5 * kReach);
-  const MeshTopology topology = build_topology(m.faces, static_cast<int>(m.x0.rows()));
-  const auto at = [&](double t) {
-    Points x = m.rest;
-    for (int v = 0; v < x.rows(); ++v)
-      x(v, 2) = (0.5e-3 + 0.4e-3 * t) * std::sin(160.0 * m.rest(v, 0) + t) *
-                std::cos(120.0 * m.rest(v, 1));
-    return x;
-  };
-  const double swept_reach = 1e-3;
-  UnfoldedSubtrees proximity, swept, fresh;
-  for (UnfoldedSubtrees* u : {&proximity, &swept, &fresh}) u->build(m.rest, m.faces, bvh);
+  const WavingSheet w;
+  UnfoldedSubtrees proximity = w.subtrees(), swept = w.subtrees();
   UnfoldedSubtrees::KeptFits kept;
   proximity.keep_fits_in(&kept);
   swept.keep_fits_in(&kept);
@@ -313,18 +315,12 @@ TEST(UnfoldedSubtrees, TwoSearchesSharingTheirFitsFitEachPositionOnce) {
   other.keep_fits_in(&kept);
   int flagged = 0;
   for (int step = 0; step < 5; ++step) {
-    const Points x0 = at(step), x1 = at(step + 1);
-    proximity.update(bvh, x0, kRestDistance, kReach);
-    fresh = UnfoldedSubtrees();
-    fresh.build(m.rest, m.faces, bvh);
-    fresh.update(bvh, x0, kRestDistance, kReach);
-    EXPECT_EQ(proximity.flags(), fresh.flags()) << step;
+    const Points x0 = w.at(step), x1 = w.at(step + 1);
+    proximity.update(w.bvh, x0, kRestDistance, kReach);
+    EXPECT_EQ(proximity.flags(), w.fresh_flags(x0, nullptr)) << step;
     other.update(small_bvh, small.x0, kRestDistance, kReach);
-    swept.update_swept(bvh, m.faces, topology, x0, x1, swept_reach);
-    fresh = UnfoldedSubtrees();
-    fresh.build(m.rest, m.faces, bvh);
-    fresh.update_swept(bvh, m.faces, topology, x0, x1, swept_reach);
-    EXPECT_EQ(swept.flags(), fresh.flags()) << step;
+    swept.update_swept(w.bvh, w.m.faces, w.topology, x0, x1, w.kSweptReach);
+    EXPECT_EQ(swept.flags(), w.fresh_flags(x0, &x1)) << step;
     flagged += static_cast<int>(std::count(swept.flags().begin(), swept.flags().end(), 1));
   }
   EXPECT_EQ(proximity.fitted_sets(), 1);
