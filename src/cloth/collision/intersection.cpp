@@ -93,7 +93,7 @@ int count_intersections(const std::vector<const CollisionMesh*>& meshes, bool us
   for (std::size_t m = 0; m < nm; ++m) {
     const Points& x = use_x1 ? meshes[m]->x1 : meshes[m]->x0;
     const Triangles& faces = meshes[m]->faces;
-    if (bvhs[m].num_faces() == faces.rows() && !(bvhs[m].empty() && faces.rows() > 0)) {
+    if (bvhs[m].num_faces() == faces.rows()) {
       bvhs[m].refit(faces, x, x, 0.0);
     } else {
       bvhs[m].build(faces, x, x, 0.0);

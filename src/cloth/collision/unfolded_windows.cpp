@@ -152,10 +152,7 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
           double q[4];
           region(static_cast<int>(k), c0, c1, q);
           if (box[0] <= q[2] && q[0] <= box[2] && box[1] <= q[3] && q[1] <= box[3])
-            visit(level.first +
-                      static_cast<std::size_t>(c1) * static_cast<std::size_t>(level.columns) +
-                      static_cast<std::size_t>(c0),
-                  q);
+            visit(level.window(c0, c1), q);
         }
     }
   };
@@ -222,10 +219,7 @@ void UnfoldedWindows::build(std::span<const double> uv, const Triangles& faces,
   for (std::size_t k = 0; k < m_levels.size(); ++k)
     for (int c1 = 0; c1 < m_levels[k].rows; ++c1)
       for (int c0 = 0; c0 < m_levels[k].columns; ++c0) {
-        const std::size_t w =
-            m_levels[k].first +
-            static_cast<std::size_t>(c1) * static_cast<std::size_t>(m_levels[k].columns) +
-            static_cast<std::size_t>(c0);
+        const std::size_t w = m_levels[k].window(c0, c1);
         double q[4];
         region(static_cast<int>(k), c0, c1, q);
         const double q_area = (q[2] - q[0]) * (q[3] - q[1]);

@@ -79,14 +79,10 @@ class UnfoldedWindows {
       h1 >>= 1;
     }
     const Level& l = m_levels[level];
-    const auto window = [&](int w0, int w1) {
-      return l.first + static_cast<std::size_t>(w1) * static_cast<std::size_t>(l.columns) +
-             static_cast<std::size_t>(w0);
-    };
-    if (flagged(window(c0, c1))) return true;
+    if (flagged(l.window(c0, c1))) return true;
     const bool lower0 = h0 == c0 && c0 > 0, lower1 = h1 == c1 && c1 > 0;
-    return (lower0 && flagged(window(c0 - 1, c1))) || (lower1 && flagged(window(c0, c1 - 1))) ||
-           (lower0 && lower1 && flagged(window(c0 - 1, c1 - 1)));
+    return (lower0 && flagged(l.window(c0 - 1, c1))) || (lower1 && flagged(l.window(c0, c1 - 1))) ||
+           (lower0 && lower1 && flagged(l.window(c0 - 1, c1 - 1)));
   }
   /// Nodes of the tree it was built for.
   int num_nodes() const { return m_nodes; }
@@ -127,6 +123,11 @@ class UnfoldedWindows {
   struct Level {
     std::size_t first{};  // its first window
     int columns{}, rows{};
+    // The index of its window (c0, c1), row-major after `first`.
+    std::size_t window(int c0, int c1) const {
+      return first + static_cast<std::size_t>(c1) * static_cast<std::size_t>(columns) +
+             static_cast<std::size_t>(c0);
+    }
   };
 
   int m_nodes{};
