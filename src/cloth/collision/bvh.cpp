@@ -118,10 +118,13 @@ struct BvhTraversal {
 
   // Pairs between subtree i of `na` and subtree j of `nb`.
   void pair(int i, int j) {
+    if (overlap(na[static_cast<std::size_t>(i)], nb[static_cast<std::size_t>(j)])) descend(i, j);
+  }
+  // pair(i, j) for boxes known to overlap: each child pair's boxes are tested before descending.
+  void descend(int i, int j) {
+    if (skips_pair(skip, i, j)) return;
     const Bvh::Node& p = na[static_cast<std::size_t>(i)];
     const Bvh::Node& q = nb[static_cast<std::size_t>(j)];
-    if (!overlap(p, q)) return;
-    if (skips_pair(skip, i, j)) return;
     const bool leaf_p = p.face >= 0, leaf_q = q.face >= 0;
     if (leaf_p && leaf_q) {
       if (faces != nullptr && faces_adjacent(*faces, p.face, q.face)) return;
@@ -130,11 +133,11 @@ struct BvhTraversal {
     }
     // Descend the bigger (or the only inner) node.
     if (descends_first(p, q)) {
-      pair(i + 1, j);
-      pair(p.right, j);
+      if (overlap(na[static_cast<std::size_t>(i) + 1], q)) descend(i + 1, j);
+      if (overlap(na[static_cast<std::size_t>(p.right)], q)) descend(p.right, j);
     } else {
-      pair(i, j + 1);
-      pair(i, q.right);
+      if (overlap(p, nb[static_cast<std::size_t>(j) + 1])) descend(i, j + 1);
+      if (overlap(p, nb[static_cast<std::size_t>(q.right)])) descend(i, q.right);
     }
   }
 
