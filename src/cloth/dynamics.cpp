@@ -589,8 +589,6 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
   DynamicsWorkspace& ws = state.scratch.get();
   prepare(model, ws);
   assemble(model, state, h, gravity, ws);
-  ws.base_blocks = ws.blocks;
-  ws.base_rhs = ws.rhs;
   // Vertices held by `constraints` keep those, without friction.
   ws.held.assign(static_cast<std::size_t>(nv), 0);
   for (const VelocityConstraint& c : constraints) ws.held[static_cast<std::size_t>(c.vertex)] = 1;

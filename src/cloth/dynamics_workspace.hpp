@@ -51,7 +51,8 @@ struct DynamicsWorkspace {
   std::vector<char> constrained;  ///< |V| flags of velocity-constrained vertices
   std::vector<Mat3> saved_rows;   ///< constrained rows' blocks A(i, j) before elimination
   std::vector<Vec3> saved_rhs;    ///< constrained rows' right-hand sides before elimination
-  // Friction rounds: the assembled system before elimination, and the round's constraints.
+  // Friction rounds: the assembled system before elimination (Newton over the cloth only), and
+  // the round's constraints.
   std::vector<Mat3> base_blocks;
   Eigen::VectorXd base_rhs;
   std::vector<VelocityConstraint> all_constraints;
@@ -144,10 +145,10 @@ inline Vec3 tangential_slip(const FrictionConstraint& f, const ClothState& state
 Vec3 friction_gradient(const Vec3& w, double bound, double eps);
 
 /// Friction of solve_velocities through the Schur complement of the friction vertices (inputs
-/// as for solve_friction_newton): the system, turned into the contact frames of the vertices of
-/// ws.schur_vertices, is factorised with their slip coordinates last, the friction problem is
-/// solved on the Schur complement of those coordinates by Newton's
-/// method (reweighted least squares until a slip settles), and one back substitution gives the
+/// as for solve_friction_newton): the assembled system, turned into the contact frames of the
+/// vertices of ws.schur_vertices, is factorised with their slip coordinates last, the friction
+/// problem is solved on the Schur complement of those coordinates by Newton's method
+/// (reweighted least squares until a slip settles), and one back substitution gives the
 /// other velocities. Leaves Δv in ws.dv; outcome.seconds gets the time of the friction's own
 /// work (ordering, Schur complement, dense Newton), outcome.iterations its dense iterations.
 DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& state,
@@ -157,9 +158,10 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
 
 /// Friction of solve_velocities by Newton's method over the whole cloth, each iteration a
 /// linear solve (reweighted-least-squares steps while the solves are loose or a slip still
-/// turns), from ws.dv_iterate. The base system is in ws.base_blocks and ws.base_rhs, the
-/// constraints (squeezed normals too) in ws.solve_constraints, the active friction constraints
-/// flagged in ws.active. Leaves Δv in ws.dv; fills outcome.iterations, linear_solves, seconds.
+/// turns), from ws.dv_iterate. The assembled system is in ws.blocks and ws.rhs (kept in
+/// ws.base_blocks and ws.base_rhs), the constraints (squeezed normals too) in
+/// ws.solve_constraints, the active friction constraints flagged in ws.active. Leaves Δv in
+/// ws.dv; fills outcome.iterations, linear_solves, seconds.
 DynamicsReport solve_friction_newton(const ClothModel& model, const ClothState& state,
                                      std::span<const FrictionConstraint> friction,
                                      const FrictionSettings& settings, DynamicsWorkspace& ws,

@@ -16,6 +16,9 @@ DynamicsReport solve_friction_newton(const ClothModel& model, const ClothState& 
   const std::size_t nf = friction.size();
   const double eps = settings.stick_velocity;
   const auto active = [&](std::size_t k) { return ws.active[k] != 0; };
+  // The assembled system, kept: each iteration adds its linearised friction to a copy.
+  ws.base_blocks = ws.blocks;
+  ws.base_rhs = ws.rhs;
   // Relative tangential velocity of friction vertex k at the velocity change `dv`.
   const auto slip = [&](std::size_t k, const Eigen::VectorXd& dv) {
     return tangential_slip(friction[k], state, dv);

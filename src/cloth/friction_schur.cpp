@@ -174,9 +174,8 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   const auto q = static_cast<Eigen::Index>(ws.schur_fidx.size());
   seconds += since(start);
 
-  // Factorisation of the rotated system: the cloth's own solve.
-  ws.blocks = ws.base_blocks;
-  ws.rhs = ws.base_rhs;
+  // Factorisation of the rotated system (the assembled one, in ws.blocks and ws.rhs): the
+  // cloth's own solve.
   eliminate_constraints(model, state, ws.solve_constraints, ws);
   rotate_system(model.pattern, ws);
   DynamicsReport report = factorise(ws.blocks, ws.schur);
