@@ -15,6 +15,13 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+/// The pool that shares out the root's two subtrees, one on each thread, where the tree is
+/// worth it; else none.
+WorkerPool* halves_pool(const Bvh& bvh, WorkerPool* pool) {
+  return pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces ? pool
+                                                                                          : nullptr;
+}
+
 // Smallest singular value of the 3×2 matrix f.
 double sigma_min(const double (&f)[3][2]) {
   double p = 0.0, q = 0.0, s = 0.0;
@@ -384,12 +391,10 @@ const UnfoldedSubtrees::Fits& UnfoldedSubtrees::fits_at(const Bvh& bvh, const Po
   kept.recent = target;
   ++m_fitted_sets;
   f.x = x;
-  // The root's two subtrees each on a thread of its own where the tree is worth it.
+  // The root's two subtrees each on a thread of its own.
   const int l = 1, r = bvh.right_child(0);
-  const bool threaded =
-      pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces;
   Moments children[2];
-  for_each_index(threaded ? pool : nullptr, 2,
+  for_each_index(halves_pool(bvh, pool), 2,
                  [&](std::size_t k) { children[k] = fit_subtree(bvh, k == 0 ? l : r, x, f.fit); });
   fit_inner(bvh, 0, children[0], children[1], x, f.fit);
   f.valid = true;
@@ -403,9 +408,7 @@ void UnfoldedSubtrees::run(const Bvh& bvh, WorkerPool* pool) {
   const Fits* at1 = m_x[1] != nullptr ? &fits_at(bvh, *m_x[1], &at0, pool) : nullptr;
   // The flags of the root's two subtrees on two threads, then the root's.
   const int r = bvh.right_child(0);
-  const bool threaded =
-      pool != nullptr && pool->threads() > 1 && bvh.num_faces() >= kParallelQueryFaces;
-  for_each_index(threaded ? pool : nullptr, 2,
+  for_each_index(halves_pool(bvh, pool), 2,
                  [&](std::size_t k) { flag(k == 0 ? 1 : r, k == 0 ? r : m_nodes, at0, at1); });
   flag(0, 1, at0, at1);
 }
