@@ -6,8 +6,10 @@
 #include <utility>
 #include <vector>
 
+#include "cloth/collision/pair_friction.hpp"
 #include "cloth/dynamics.hpp"
 #include "core/types.hpp"
+#include "coupling/friction_ncp.hpp"
 
 namespace dexcloth::coupling {
 
@@ -26,8 +28,7 @@ struct ContactGroup {
   /// velocity again at the next step.
   std::array<int, 3> other_vertices{-1, -1, -1};
   Vec3 other_weights{Vec3::Zero()};
-  double record_weight{};            ///< weight of that record
-  double friction_share{1.0};        ///< that record's VertexContact::friction_share
+  double record_weight{};  ///< weight of that record
   /// Found ahead of a fast body (speculative_touches.hpp): the cloth's end-of-step position
   /// against the body's predicted pose, for the patches only (other_vertices index that pose).
   bool speculative{false};
@@ -42,6 +43,20 @@ inline std::size_t vertex_end(const std::vector<ContactGroup>& groups, std::size
     ++end;
   return end;
 }
+
+/// One cloth vertex's friction NCP against the bodies and props it touches (paper §4.2), kept
+/// through the sweeps that solve it together with the cloth–cloth pair friction.
+struct BodyFriction {
+  int cloth{};
+  int vertex{};
+  std::size_t first{}, end{};                                ///< the vertex's groups
+  std::array<FrictionContact, kMaxVertexContacts> contacts;  ///< its body and prop contacts
+  std::array<std::size_t, kMaxVertexContacts> source{};      ///< each contact's group
+  std::size_t count{};
+  bool coupled{};              ///< a corner of a cloth–cloth friction pair
+  Vec3 applied{Vec3::Zero()};  ///< Δv applied so far [m/s]
+  FrictionResult result;       ///< the last answer
+};
 
 /// Scratch of the interface, kept between steps so a step does not allocate.
 struct InterfaceScratch {
@@ -63,6 +78,10 @@ struct InterfaceScratch {
       friction_groups;  ///< each one's groups [first, end)
   std::vector<cloth::FrictionOutcome> friction_outcome;
   std::vector<Points> reaction;  ///< per cloth: forces of stacked layers' friction [N], next step
+  collision::PairFriction pairs;    ///< the cloth–cloth friction of the step
+  std::vector<Vec3> pair_friction;  ///< per proximity: its cloth–cloth friction impulse [N·s]
+  std::vector<std::vector<std::uint8_t>> pair_corner;  ///< per cloth, per vertex: in a pair
+  std::vector<BodyFriction> body_friction;             ///< the step's vertex NCPs
   /// Per cloth, per vertex: 0 not in the implicit friction, 1 stuck, 2 sliding (last step).
   std::vector<std::vector<std::uint8_t>> friction_state;
   std::vector<std::vector<double>> force_filtered;  ///< per cloth, per vertex: filtered DART fN [N]

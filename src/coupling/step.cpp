@@ -302,7 +302,7 @@ void step(const WorldModel& model, WorldData& data) {
   repulsion.dt = h;
   repulsion.friction = !bai_liu;
   collision::apply_repulsion(mesh_list(data), data.contacts.proximities, repulsion,
-                             data.contacts.contacts);
+                             data.contacts.contacts, data.contacts.impulses);
   data.timings.cloth += clock.lap() - friction_seconds;
   data.timings.interface += friction_seconds;
 
@@ -311,7 +311,7 @@ void step(const WorldModel& model, WorldData& data) {
   data.stats.sticking = 0;
   if (bai_liu) {
     assign_normal_forces(cloths, model.clusters.distance, h, data);
-    data.stats.sticking = apply_friction(h, kCoplanarDeg, data);
+    data.stats.sticking = apply_friction(h, kCoplanarDeg, mesh_list(data), data);
   }
   data.timings.interface += clock.lap();
 

@@ -52,11 +52,17 @@ TEST(PressFlatten, ThePalmPressesTheCrumpledHeapDown) {
   // with the surface of the thumb's capsule buried in the pad box on it, and impacts of cloth
   // that started micrometres inside the thumb oriented into it (README, press_flatten). Over
   // fourteen starts (the scene's; shifted 0.5 and 1 mm in ±x, ±0.5 mm and 1 mm in y; turned
-  // ±1, ±2, ±3°), with OPENBLAS_CORETYPE=Haswell and unset, the napkin now ends with a mean
+  // ±1, ±2, ±3°), with OPENBLAS_CORETYPE=Haswell and unset, the napkin then ended with a mean
   // height of 5.0–15.5 mm and its highest vertex 0.5–5.7 cm up (a flap standing on the heap).
+  // Since cloth–cloth friction is solved per pair to convergence (6 Dec), the layers hold each
+  // other as Coulomb says and the heap is loftier: 21–30 mm on average at 1.5 s against 14–29,
+  // pressed to the same 7–19 mm, and it ends at 11.4–29.4 mm (median 15; 5.0–15.5 before) over
+  // the scene's start and six perturbed ones (±0.5 mm in x and y, turned −1, 1, 2°), its flaps
+  // rising again after the hand has gone (the membrane the post-solve friction and repulsion
+  // strain throws them up, README).
   const Heights end = heights_at(frames, 3.6);
   EXPECT_LT(end.max, 0.09);
-  EXPECT_LT(end.mean, 0.025);
+  EXPECT_LT(end.mean, 0.035);
 }
 
 TEST(PressFlatten, TheKinematicHandLeavesAHeap) {

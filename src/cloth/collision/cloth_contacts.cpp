@@ -9,7 +9,7 @@ void detect_cloth_contacts(const std::vector<CollisionMesh*>& meshes,
   const std::vector<const CollisionMesh*> view(meshes.begin(), meshes.end());
   find_proximities(view, options.thickness, data.candidates, data.proximities,
                    data.proximity_scratch);
-  apply_repulsion(meshes, data.proximities, options, data.contacts);
+  apply_repulsion(meshes, data.proximities, options, data.contacts, data.impulses);
 }
 
 ContactVertexSets contact_vertex_sets(const std::vector<VertexContact>& contacts, int mesh) {

@@ -16,6 +16,7 @@ struct ClothContacts {
   std::vector<Proximity> proximities;  ///< pairs closer than the thickness at x0
   std::vector<std::vector<Proximity>> proximity_scratch;  ///< per chunk of the parallel search
   std::vector<VertexContact> contacts;  ///< per-vertex records of the last detection
+  std::vector<double> impulses;         ///< per proximity: its repulsion impulse λ [N·s]
 };
 
 /// Vertices of one mesh in contact, sorted and unique.
@@ -25,7 +26,8 @@ struct ContactVertexSets {
 };
 
 /// Finds proximities at x0 within `options.thickness` and applies repulsion (and friction, per
-/// `options.friction`) to x1 of `meshes`; fills `data.proximities` and `data.contacts`.
+/// `options.friction`) to x1 of `meshes`; fills `data.proximities`, `data.contacts` and
+/// `data.impulses`.
 void detect_cloth_contacts(const std::vector<CollisionMesh*>& meshes,
                            const RepulsionOptions& options, ClothContacts& data);
 

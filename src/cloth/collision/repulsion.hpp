@@ -40,16 +40,13 @@ struct VertexContact {
                                       ///< the pass [m/s]
   double normal_impulse{};     ///< this vertex's share of the pair's repulsion impulse [N·s]
   double friction_impulse{};   ///< this vertex's share of the pair's friction impulse [N·s]
+                               ///< (the kinematic baseline's; 0 when the coupling computes it)
   int face_or_edge{};          ///< other side's face (VertexFace), vertex (FaceVertex) or edge
                                ///< (EdgeEdge, index into its MeshTopology::edges)
   Vec3 weights{Vec3::Zero()};  ///< barycentric weights of the touching point on the other side:
                                ///< face (VertexFace), (1,0,0) (FaceVertex), (1−u, u, 0) (EdgeEdge)
   std::array<int, 3> other_vertices{-1, -1, -1};  ///< the other side's vertices those weigh (−1:
                                                   ///< unused)
-  /// Share of the pair's relative velocity this vertex takes away when the pair sticks, so that
-  /// the two sides' friction impulses cancel: |w_v|/m_v / (K_self + K_other), K = Σ w_k²/m_k of
-  /// a side (fixed vertices weigh nothing). 1 against an obstacle (the vertex alone stops).
-  double friction_share{1.0};
 };
 
 /// Applies repulsion (and, with `options.friction`, friction) impulses for every pair in
@@ -57,11 +54,12 @@ struct VertexContact {
 /// infinite mass). Per pair with overlap d = thickness − distance and relative normal velocity
 /// v_N, the target is v_N ≥ max(v_N⁰, min(max(v_N⁰, 0) + h·k·d·K, 0.1·d/h)) with K the pair's
 /// inverse effective mass (Bridson eq. in §7.2), reached by Gauss–Seidel on accumulated impulses
-/// λ ≥ 0. Friction: v_T ← max(1 − μ·Δv_N/|v_T|, 0)·v_T, so the friction impulse is ≤ μ·λ and
-/// never reverses the relative tangential velocity. Replaces `contacts` with one record per cloth
-/// vertex of each pair with a nonzero weight.
+/// λ ≥ 0. Friction (apply_pair_friction in one pass): v_T ← max(1 − μ·Δv_N/|v_T|, 0)·v_T, so the
+/// friction impulse is ≤ μ·λ and never reverses the relative tangential velocity. Replaces
+/// `contacts` with one record per cloth vertex of each pair with a nonzero weight, and
+/// `impulses` with each pair's λ [N·s].
 void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
                      const std::vector<Proximity>& proximities, const RepulsionOptions& options,
-                     std::vector<VertexContact>& contacts);
+                     std::vector<VertexContact>& contacts, std::vector<double>& impulses);
 
 }  // namespace dexcloth::collision
