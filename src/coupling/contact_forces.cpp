@@ -588,7 +588,6 @@ int apply_friction(double h, double coplanar_deg,
         worst = std::max(worst, solve_body_friction(b, groups, h, coplanar_sin, data));
     if (worst <= kClothFrictionConverged) break;
   }
-  s.pairs.impulses(s.pair_friction);
   // Position constraints (paper §3, §7.2) and the NCPs' residuals.
   int frozen = 0, unsolved = 0, worst_cloth = -1, worst_vertex = -1;
   double worst = 0.0;

@@ -62,16 +62,16 @@ void stack_reactions(int cloth_meshes, double h, WorldData& data);
 /// Newton iterations of the whole cloth's system.
 void friction_constraints(int cloth_meshes, double h, double coplanar_deg, WorldData& data);
 
-/// Paper §4.2 and §3 on the candidate velocities (x1 − x0)/h of `meshes` (data.meshes). Cloth
-/// against cloth first: each proximity pair's Coulomb friction with its repulsion impulse as the
-/// normal force, as equal and opposite impulses on its two sides (collision::apply_pair_friction),
-/// so friction within and between cloths keeps their momentum; vertices whose friction the
-/// implicit step solved are infinitely heavy there. Then each vertex's friction NCP against the
-/// bodies and props it touches, its x1 moved by h·Δv, and the vertices in static friction with a
-/// body frozen (position-constrained). Returns the number of frozen vertices. Vertices whose
-/// friction the implicit step solved (data.interface.friction_state) are not solved again; those
-/// that stuck are frozen. Contact planes of one vertex within `coplanar_deg` of each other are one
-/// plane, as the vertices of one rigid cloth patch are (paper §5, δn).
+/// Paper §4.2 and §3 on the candidate velocities (x1 − x0)/h of `meshes` (data.meshes).
+/// Cloth–cloth friction acts per proximity pair, its repulsion impulse the normal force, equal
+/// and opposite on its two sides (collision::PairFriction), so friction within and between
+/// cloths keeps their momentum. Each other vertex in contact solves its friction NCP against the
+/// bodies and props it touches, x1 moved by h·Δv, in block Gauss–Seidel with the pairs. Vertices
+/// whose friction the implicit step solved (data.interface.friction_state) are not solved again
+/// and weigh as the hand in the pairs; those that stuck, and those in static friction with a
+/// body, are frozen (position-constrained) unless still closing on a surface. Returns the
+/// number of frozen vertices. Contact planes of one vertex within `coplanar_deg` of each other
+/// are one plane, as the vertices of one rigid cloth patch are (paper §5, δn).
 int apply_friction(double h, double coplanar_deg,
                    const std::vector<collision::CollisionMesh*>& meshes, WorldData& data);
 

@@ -78,8 +78,7 @@ struct InterfaceScratch {
       friction_groups;  ///< each one's groups [first, end)
   std::vector<cloth::FrictionOutcome> friction_outcome;
   std::vector<Points> reaction;  ///< per cloth: forces of stacked layers' friction [N], next step
-  collision::PairFriction pairs;    ///< the cloth–cloth friction of the step
-  std::vector<Vec3> pair_friction;  ///< per proximity: its cloth–cloth friction impulse [N·s]
+  collision::PairFriction pairs;                       ///< the cloth–cloth friction of the step
   std::vector<std::vector<std::uint8_t>> pair_corner;  ///< per cloth, per vertex: in a pair
   std::vector<BodyFriction> body_friction;             ///< the step's vertex NCPs
   /// Per cloth, per vertex: 0 not in the implicit friction, 1 stuck, 2 sliding (last step).
