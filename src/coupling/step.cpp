@@ -301,8 +301,9 @@ void step(const WorldModel& model, WorldData& data) {
   repulsion.thickness = model.thickness;
   repulsion.dt = h;
   repulsion.friction = !bai_liu;
-  collision::apply_repulsion(mesh_list(data), data.contacts.proximities, repulsion,
-                             data.contacts.contacts, data.contacts.impulses);
+  const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
+  collision::apply_repulsion(meshes, data.contacts.proximities, repulsion, data.contacts.contacts,
+                             data.contacts.impulses);
   data.timings.cloth += clock.lap() - friction_seconds;
   data.timings.interface += friction_seconds;
 
@@ -311,7 +312,7 @@ void step(const WorldModel& model, WorldData& data) {
   data.stats.sticking = 0;
   if (bai_liu) {
     assign_normal_forces(cloths, model.clusters.distance, h, data);
-    data.stats.sticking = apply_friction(h, kCoplanarDeg, mesh_list(data), data);
+    data.stats.sticking = apply_friction(h, kCoplanarDeg, meshes, data);
   }
   data.timings.interface += clock.lap();
 

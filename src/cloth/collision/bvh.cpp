@@ -121,6 +121,8 @@ struct BvhTraversal {
     if (overlap(na[static_cast<std::size_t>(i)], nb[static_cast<std::size_t>(j)])) descend(i, j);
   }
   // pair(i, j) for boxes known to overlap: each child pair's boxes are tested before descending.
+  // The tests are written out, not calls of pair(): GCC then inlines descend into pair and
+  // recurses through pair, calling it for disjoint boxes too.
   void descend(int i, int j) {
     if (skips_pair(skip, i, j)) return;
     const Bvh::Node& p = na[static_cast<std::size_t>(i)];
