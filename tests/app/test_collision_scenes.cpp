@@ -71,19 +71,18 @@ TEST(CollisionScenes, SheetDrapesOverSphereWithoutIntersectingAndRestsAtTheThick
   EXPECT_EQ(s["intersections_max"], 0);
   EXPECT_EQ(collision_warnings(s), 0) << s["warnings"].dump();
   // The vertex over the pole rests one repulsion thickness (5 mm) above the sphere (r = 0.25 m):
-  // within ±1 mm of that in most frames of the last 0.5 s. Every 0.1–0.2 s it drops to the
-  // surface in one step and the repulsion spring takes it back out over the next 0.1 s: hovering
-  // a hair beyond the thickness at the step's start, it has no proximity pair, the sheet's
-  // tension pulls it 5–9 mm into the sphere in the solve, and the impact zones stop it 0.2 mm
-  // above the surface (README). It never goes in.
+  // within ±0.5 mm of that in every frame of the last 0.5 s (5.12–5.14 mm). Searched only to the
+  // thickness, it dropped to 0.2 mm above the surface every 0.1–0.2 s: hovering a hair beyond
+  // the thickness at a step's start it had no proximity pair, and the sheet's tension pulled it
+  // 5–9 mm into the sphere in the solve, where the impact zones stopped it.
   const auto& top = s["probes"]["top"];
   std::vector<double> heights;
   for (const auto& row : top)
     if (row[0].get<double>() >= 1.0 - 1e-9) heights.push_back(row[3].get<double>());
   ASSERT_FALSE(heights.empty());
-  std::sort(heights.begin(), heights.end());
-  EXPECT_NEAR(heights[heights.size() / 2], 0.25 + 0.005, 1e-3);
-  EXPECT_GT(heights.front(), 0.25);
+  const auto [lowest, highest] = std::minmax_element(heights.begin(), heights.end());
+  EXPECT_NEAR(*lowest, 0.25 + 0.005, 0.5e-3);
+  EXPECT_NEAR(*highest, 0.25 + 0.005, 0.5e-3);
   // It did not explode: the corners hang below the sphere's equator, inside 0.6 m of the axis.
   const auto corner = last(s, "corner");
   EXPECT_LT(corner[3], 0.0);

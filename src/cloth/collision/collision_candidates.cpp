@@ -52,7 +52,16 @@ bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& g) {
 
 void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes, bool swept,
                                  double margin) {
+  update(meshes, swept, margin, margin);
+}
+
+void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes, bool swept,
+                                 double margin, double obstacle_margin) {
+  DEXCLOTH_DEMAND(margin >= 0.0 && obstacle_margin >= margin);
   const std::size_t nm = meshes.size();
+  const auto inflation = [&](std::size_t m) {
+    return meshes[m]->obstacle && meshes[m]->beyond_thickness ? obstacle_margin : margin;
+  };
   if (m_topology.size() != nm) {
     m_topology.clear();
     m_topology.resize(nm);
@@ -67,12 +76,12 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
         topo.face_edges.size() != static_cast<std::size_t>(mesh.faces.rows()) ||
         m_bvh[m].num_faces() != mesh.faces.rows() || (m_bvh[m].empty() && mesh.faces.rows() > 0)) {
       topo = build_topology(mesh.faces, static_cast<int>(mesh.x0.rows()));
-      m_bvh[m].build(mesh.faces, mesh.x0, x1, margin);
+      m_bvh[m].build(mesh.faces, mesh.x0, x1, inflation(m));
       if (m_rest.size() > m) m_rest[m] = RestNeighbours();
       if (m_unfolded.size() > m) m_unfolded[m] = UnfoldedSubtrees();
       if (m_windows.size() > m) m_windows[m] = {};
     } else {
-      m_bvh[m].refit(mesh.faces, mesh.x0, x1, margin);
+      m_bvh[m].refit(mesh.faces, mesh.x0, x1, inflation(m));
     }
   }
   // Rest neighbours of each self-colliding cloth, listed once per topology and distance.
@@ -135,13 +144,14 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   for (std::size_t m = 0; m < nm; ++m) {
     const CollisionMesh& mesh = *meshes[m];
     const Points& x1 = swept ? mesh.x1 : mesh.x0;
+    const double inflate = inflation(m);
     std::vector<PrimitiveBox>& vb = m_vertex_boxes[m];
     vb.resize(static_cast<std::size_t>(mesh.x0.rows()));
     for (Eigen::Index v = 0; v < mesh.x0.rows(); ++v) {
       PrimitiveBox& b = vb[static_cast<std::size_t>(v)];
       for (int d = 0; d < 3; ++d) {
-        b.lo[d] = std::min(mesh.x0(v, d), x1(v, d)) - margin;
-        b.hi[d] = std::max(mesh.x0(v, d), x1(v, d)) + margin;
+        b.lo[d] = std::min(mesh.x0(v, d), x1(v, d)) - inflate;
+        b.hi[d] = std::max(mesh.x0(v, d), x1(v, d)) + inflate;
       }
     }
     const std::vector<std::array<int, 2>>& edges = m_topology[m].edges;

@@ -54,6 +54,11 @@ class CollisionCandidates {
   /// neighbours (set_rest_neighbour_distance; nothing is left out while that is 0). So every
   /// pair within 2·margin is found, but not every pair whose boxes overlap.
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin);
+  /// The same with the boxes of the obstacles searched beyond the thickness
+  /// (CollisionMesh::beyond_thickness) inflated by `obstacle_margin` ≥ `margin` instead: their
+  /// pairs with cloth within margin + obstacle_margin are found.
+  void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin,
+              double obstacle_margin);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
   void reset() { m_topology.clear(); }
   /// Runs the pair searches on `pool`'s threads (null: the calling thread only). The pairs found,

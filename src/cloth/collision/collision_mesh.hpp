@@ -28,6 +28,9 @@ struct CollisionMesh {
   /// than a fold's length at rest are never in contact with each other (see find_proximities).
   Points rest;
   bool obstacle{false};              ///< infinitely heavy, never moved, no self-collision
+  /// An obstacle whose pairs with cloth the proximity search takes out to its obstacle reach,
+  /// beyond the thickness (find_proximities): one the cloth never pushes.
+  bool beyond_thickness{false};
   bool self_collision{true};         ///< a cloth's contacts with itself are handled (false: it
                                      ///< may pass through itself; other meshes still collide)
   double friction{0.5};              ///< Coulomb μ of this mesh's surface [-]

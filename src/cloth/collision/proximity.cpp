@@ -5,6 +5,7 @@
 
 #include "cloth/collision/closest_points.hpp"
 #include "cloth/collision/obstacle_pieces.hpp"
+#include "core/assert.hpp"
 
 namespace dexcloth::collision {
 
@@ -124,11 +125,20 @@ bool buried(const std::vector<ObstaclePieces>& pieces, const CollisionCandidates
                           kBuriedMargin * thickness);
 }
 
-/// The proximity of vertex–face candidate `c`, if closer than `thickness` (appended to `out`).
+/// How far the pairs of meshes a and b are searched: `obstacle_reach` with an obstacle searched
+/// beyond the thickness, else `thickness`.
+double reach(const CollisionMesh& a, const CollisionMesh& b, double thickness,
+             double obstacle_reach) {
+  const auto beyond = [](const CollisionMesh& m) { return m.obstacle && m.beyond_thickness; };
+  return beyond(a) || beyond(b) ? obstacle_reach : thickness;
+}
+
+/// The proximity of vertex–face candidate `c`, if closer than `thickness` (or `obstacle_reach`,
+/// with an obstacle searched beyond the thickness), appended to `out`.
 void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
                            const std::vector<ObstaclePieces>& pieces,
                            const CollisionCandidates& candidates, const VertexFacePair& c,
-                           double thickness, std::vector<Proximity>& out) {
+                           double thickness, double obstacle_reach, std::vector<Proximity>& out) {
   const CollisionMesh& vm = *meshes[static_cast<std::size_t>(c.vertex_mesh)];
   const CollisionMesh& fm = *meshes[static_cast<std::size_t>(c.face_mesh)];
   const int a = fm.faces(c.face, 0), b = fm.faces(c.face, 1), cc = fm.faces(c.face, 2);
@@ -137,8 +147,8 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   const Vec3 q = bary[0] * xa + bary[1] * xb + bary[2] * xc;
   const Vec3 gap = p - q;
   const double dist = gap.norm();
-  if (dist >= thickness) return;
   const bool cloth_pair = !vm.obstacle && !fm.obstacle;
+  if (dist >= reach(vm, fm, thickness, obstacle_reach)) return;
   if (cloth_pair && !across_surface(gap, (xb - xa).cross(xc - xa))) return;
   if (fm.obstacle && on_flat_feature(fm, candidates.topology(c.face_mesh), c.face, bary, gap,
                                      (xb - xa).cross(xc - xa)))
@@ -164,11 +174,12 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   out.push_back(prox);
 }
 
-/// The proximity of edge–edge candidate `c`, if closer than `thickness` (appended to `out`).
+/// The proximity of edge–edge candidate `c`, if closer than `thickness` (or `obstacle_reach`,
+/// with an obstacle searched beyond the thickness), appended to `out`.
 void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
                          const std::vector<ObstaclePieces>& pieces,
                          const CollisionCandidates& candidates, const EdgeEdgePair& c,
-                         double thickness, std::vector<Proximity>& out) {
+                         double thickness, double obstacle_reach, std::vector<Proximity>& out) {
   const CollisionMesh& ma = *meshes[static_cast<std::size_t>(c.mesh_a)];
   const CollisionMesh& mb = *meshes[static_cast<std::size_t>(c.mesh_b)];
   const std::array<int, 2>& ea =
@@ -183,8 +194,8 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
   const Vec3 pa = p0 + su[0] * (p1 - p0), qb = q0 + su[1] * (q1 - q0);
   const Vec3 gap = pa - qb;
   const double dist = gap.norm();
-  if (dist >= thickness) return;
   const bool cloth_pair = !ma.obstacle && !mb.obstacle;
+  if (dist >= reach(ma, mb, thickness, obstacle_reach)) return;
   if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) return;
   if ((ma.obstacle && flat_edge(ma, candidates.topology(c.mesh_a), c.edge_a)) ||
       (mb.obstacle && flat_edge(mb, candidates.topology(c.mesh_b), c.edge_b)))
@@ -211,11 +222,19 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
                       CollisionCandidates& candidates, std::vector<Proximity>& out,
                       std::vector<std::vector<Proximity>>& scratch) {
+  find_proximities(meshes, thickness, thickness, candidates, out, scratch);
+}
+
+void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
+                      double obstacle_reach, CollisionCandidates& candidates,
+                      std::vector<Proximity>& out, std::vector<std::vector<Proximity>>& scratch) {
+  DEXCLOTH_DEMAND(thickness > 0.0 && obstacle_reach >= thickness);
   out.clear();
-  // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness;
-  // face pairs of one cloth made only of rest neighbours are left out before any pair test.
+  // Boxes of x0 inflated by half the thickness meet when primitives are within the thickness
+  // (those of obstacles searched beyond it by the rest of their reach); face pairs of one cloth
+  // made only of rest neighbours are left out before any pair test.
   candidates.set_rest_neighbour_distance(kFoldLength * thickness);
-  candidates.update(meshes, false, 0.5 * thickness);
+  candidates.update(meshes, false, 0.5 * thickness, obstacle_reach - 0.5 * thickness);
   // The pieces of every obstacle made of several (the shapes of one body), at x0.
   std::vector<ObstaclePieces> pieces(meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m) {
@@ -242,9 +261,9 @@ void find_proximities(const std::vector<const CollisionMesh*>& meshes, double th
       a.clear();
       b.clear();
       for (std::size_t k = vf.size() * c / chunks; k < vf.size() * (c + 1) / chunks; ++k)
-        vertex_face_proximity(meshes, pieces, candidates, vf[k], thickness, a);
+        vertex_face_proximity(meshes, pieces, candidates, vf[k], thickness, obstacle_reach, a);
       for (std::size_t k = ee.size() * c / chunks; k < ee.size() * (c + 1) / chunks; ++k)
-        edge_edge_proximity(meshes, pieces, candidates, ee[k], thickness, b);
+        edge_edge_proximity(meshes, pieces, candidates, ee[k], thickness, obstacle_reach, b);
     }
   };
   if (pool) {

@@ -10,7 +10,8 @@
 
 namespace dexcloth::collision {
 
-/// A primitive pair closer than the thickness at x0.
+/// A primitive pair closer than the thickness at x0 (or, between cloth and an obstacle searched
+/// beyond it, within the search's obstacle reach: a pair that may close to the thickness).
 struct Proximity {
   bool edge_edge{};             ///< false: vertex–face, true: edge–edge
   std::array<int, 2> mesh{};    ///< mesh of the first primitive (vertex, edge p) and the second
@@ -36,6 +37,12 @@ struct Proximity {
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
                       CollisionCandidates& candidates, std::vector<Proximity>& out,
                       std::vector<std::vector<Proximity>>& scratch);
+/// The same, with the pairs of cloth and obstacles marked `beyond_thickness` closer than
+/// `obstacle_reach` ≥ `thickness` [m]: those beyond the thickness let the repulsion stop a
+/// vertex that would pass it in the step.
+void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
+                      double obstacle_reach, CollisionCandidates& candidates,
+                      std::vector<Proximity>& out, std::vector<std::vector<Proximity>>& scratch);
 /// The same with scratch of its own.
 void find_proximities(const std::vector<const CollisionMesh*>& meshes, double thickness,
                       CollisionCandidates& candidates, std::vector<Proximity>& out);

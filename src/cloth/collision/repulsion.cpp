@@ -27,7 +27,12 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
     const double k_eff = effective_inverse_mass(c, p.w);
     inv_k[i] = k_eff;
     const double vn0 = p.normal.dot(relative_velocity(c, p.w, h));
-    const double overlap = std::max(options.thickness - p.distance, 0.0);
+    const double overlap = options.thickness - p.distance;
+    if (overlap <= 0.0) {
+      // Beyond the thickness (an obstacle's pair within reach): close at most to it.
+      target[i] = std::max(vn0, overlap / h);
+      continue;
+    }
     // Inelastic: stop the approach; spring: push apart by h·k·d, at most to 0.1·d/h.
     const double spring = std::min(std::max(vn0, 0.0) + h * options.stiffness * overlap * k_eff,
                                    0.1 * overlap / h);
@@ -60,10 +65,12 @@ void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
     apply_pair_friction(meshes, proximities, lambda, pair, friction);
   }
 
-  // One record per cloth vertex of each pair that carries weight.
+  // One record per cloth vertex of each pair that carries weight, of the pairs within the
+  // thickness and of those beyond it that the step closed to it.
   contacts.clear();
   for (std::size_t i = 0; i < np; ++i) {
     const Proximity& p = proximities[i];
+    if (p.distance >= options.thickness && lambda[i] == 0.0) continue;
     const PairCorners c = resolve(meshes, p);
     for (int side = 0; side < 2; ++side) {
       const int mesh = p.mesh[static_cast<std::size_t>(side)];

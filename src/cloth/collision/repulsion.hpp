@@ -53,10 +53,12 @@ struct VertexContact {
 /// `proximities` to x1 of the meshes' movable vertices (fixed vertices and obstacles have
 /// infinite mass). Per pair with overlap d = thickness − distance and relative normal velocity
 /// v_N, the target is v_N ≥ max(v_N⁰, min(max(v_N⁰, 0) + h·k·d·K, 0.1·d/h)) with K the pair's
-/// inverse effective mass (Bridson eq. in §7.2), reached by Gauss–Seidel on accumulated impulses
-/// λ ≥ 0. Friction (apply_pair_friction in one pass): v_T ← max(1 − μ·Δv_N/|v_T|, 0)·v_T, so the
-/// friction impulse is ≤ μ·λ and never reverses the relative tangential velocity. Replaces
-/// `contacts` with one record per cloth vertex of each pair with a nonzero weight, and
+/// inverse effective mass (Bridson eq. in §7.2); a pair beyond the thickness (d < 0) may close
+/// to it and no further, v_N ≥ max(v_N⁰, d/h). Targets are reached by Gauss–Seidel on
+/// accumulated impulses λ ≥ 0. Friction (apply_pair_friction in one pass):
+/// v_T ← max(1 − μ·Δv_N/|v_T|, 0)·v_T, so the friction impulse is ≤ μ·λ and never reverses the
+/// relative tangential velocity. Replaces `contacts` with one record per cloth vertex of each
+/// pair with a nonzero weight (of pairs beyond the thickness, only those with λ > 0), and
 /// `impulses` with each pair's λ [N·s].
 void apply_repulsion(const std::vector<CollisionMesh*>& meshes,
                      const std::vector<Proximity>& proximities, const RepulsionOptions& options,

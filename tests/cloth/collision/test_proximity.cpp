@@ -67,6 +67,36 @@ TEST(Proximity, StackedSheetsMeetAcrossTheirSurfaces) {
   }
 }
 
+TEST(Proximity, AnObstacleReachFindsTheMarkedObstaclesPairsBeyondTheThicknessButNoClothOnes) {
+  // A sheet 7 mm over a box's top, and a second sheet 7 mm over the first; thickness 5 mm.
+  CollisionMesh box = make_box(Vec3(-0.1, -0.1, -0.1), Vec3(0.2, 0.2, 0.0));
+  CollisionMesh a = make_sheet(4, 4, 0.05, 0.05, Vec3(0, 0, 7e-3), 1e-4);
+  CollisionMesh b = make_sheet(4, 4, 0.05, 0.05, Vec3(0, 0, 14e-3), 1e-4);
+  const std::vector<const CollisionMesh*> meshes{&a, &b, &box};
+  CollisionCandidates candidates;
+  std::vector<Proximity> found;
+  std::vector<std::vector<Proximity>> scratch;
+  find_proximities(meshes, 5e-3, 5e-3, candidates, found, scratch);
+  EXPECT_TRUE(found.empty());
+  find_proximities(meshes, 5e-3, 10e-3, candidates, found, scratch);
+  EXPECT_TRUE(found.empty());  // the box is not marked to be searched beyond the thickness
+  box.beyond_thickness = true;
+  find_proximities(meshes, 5e-3, 10e-3, candidates, found, scratch);
+  std::vector<int> seen(static_cast<std::size_t>(a.x0.rows()), 0);
+  for (const Proximity& p : found) {
+    ASSERT_EQ(p.mesh[1], 2);  // the box: never the two sheets, 7 mm apart
+    ASSERT_EQ(p.mesh[0], 0);
+    EXPECT_FALSE(p.edge_edge);
+    EXPECT_NEAR(p.distance, 7e-3, 1e-12);
+    EXPECT_NEAR(p.normal.z(), 1.0, 1e-12);
+    seen[static_cast<std::size_t>(p.first)] = 1;
+  }
+  for (int v = 0; v < a.x0.rows(); ++v) EXPECT_EQ(seen[static_cast<std::size_t>(v)], 1) << v;
+  // Just short of 7 mm: none.
+  find_proximities(meshes, 5e-3, 6.9e-3, candidates, found, scratch);
+  EXPECT_TRUE(found.empty());
+}
+
 TEST(Proximity, ObstacleEdgesStillRepelAClothVertexBesideThem) {
   // A cloth vertex 3 mm beside the edge of an obstacle triangle, nearly in its plane (gap at 80°
   // from the face normal, which a cloth–cloth pair would not count): it is a contact, the

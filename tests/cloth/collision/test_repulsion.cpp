@@ -74,6 +74,39 @@ TEST(Repulsion, DeepOverlapIsPushedBackTowardThickness) {
   }
 }
 
+TEST(Repulsion, AnObstaclePairBeyondTheThicknessClosesToItAndNoFurther) {
+  // 8 mm over the face at 2 m/s: the step would take the vertices 2 mm into it. Searched to
+  // 10 mm from the obstacle, they stop at the 5 mm thickness (impulse 1 g · (2 − 0.6) m/s).
+  Scene s = make_scene(1.6 * kThickness, Vec3(0, 0, -2.0));
+  s.obstacle.beyond_thickness = true;
+  CollisionCandidates candidates;
+  std::vector<Proximity> found;
+  std::vector<std::vector<Proximity>> scratch;
+  const std::vector<CollisionMesh*> meshes = s.meshes();
+  const std::vector<const CollisionMesh*> view(meshes.begin(), meshes.end());
+  find_proximities(view, kThickness, 2.0 * kThickness, candidates, found, scratch);
+  ASSERT_EQ(found.size(), 3u);
+  std::vector<VertexContact> contacts;
+  std::vector<double> impulses;
+  apply_repulsion(meshes, found, options(false), contacts, impulses);
+  for (const int v : {0, 1, 3}) EXPECT_NEAR(s.cloth.x1(v, 2), kThickness, 1e-12) << v;
+  ASSERT_EQ(contacts.size(), 3u);
+  for (const VertexContact& c : contacts) {
+    EXPECT_TRUE(c.with_obstacle);
+    EXPECT_NEAR(c.distance, 1.6 * kThickness, 1e-12);
+    EXPECT_NEAR(c.normal_impulse, 1e-3 * (2.0 - 0.6 * kThickness / kDt), 1e-12);
+  }
+  // At 0.5 m/s they end 0.5·5 mm lower, short of the thickness: left alone, and no contact.
+  s = make_scene(1.6 * kThickness, Vec3(0, 0, -0.5));
+  s.obstacle.beyond_thickness = true;
+  const Points before = s.cloth.x1;
+  find_proximities(view, kThickness, 2.0 * kThickness, candidates, found, scratch);
+  ASSERT_EQ(found.size(), 3u);
+  apply_repulsion(meshes, found, options(false), contacts, impulses);
+  EXPECT_EQ(s.cloth.x1, before);
+  EXPECT_TRUE(contacts.empty());
+}
+
 TEST(Repulsion, SeparatingPairIsLeftAlone) {
   Scene s = make_scene(0.5 * kThickness, Vec3(0, 0, 1.0));
   const Points before = s.cloth.x1;
