@@ -96,7 +96,7 @@ TEST(Repulsion, AnObstaclePairBeyondTheThicknessClosesToItAndNoFurther) {
     EXPECT_NEAR(c.distance, 1.6 * kThickness, 1e-12);
     EXPECT_NEAR(c.normal_impulse, 1e-3 * (2.0 - 0.6 * kThickness / kDt), 1e-12);
   }
-  // At 0.5 m/s they end 0.5·5 mm lower, short of the thickness: left alone, and no contact.
+  // At 0.5 m/s they end 2.5 mm lower, 5.5 mm over the face: left alone, and no contact.
   s = make_scene(1.6 * kThickness, Vec3(0, 0, -0.5));
   s.obstacle.beyond_thickness = true;
   const Points before = s.cloth.x1;
