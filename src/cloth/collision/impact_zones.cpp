@@ -149,6 +149,50 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
   m_candidates.update(m_view, true, options.ccd_tolerance);
   const std::size_t before = m_impacts.size();
 
+  // Cloth skimming a flat part of an obstacle within the CCD tolerance of its plane meets it at
+  // an angle to the start gap (taken with the hit's weights): a vertex meeting a face part-way
+  // through a slide gets the start gap's direction, nearly in the plane, and an edge meeting a
+  // flat edge (between coplanar faces) the edges' common perpendicular, tilted with the cloth
+  // edge. Both pushed a crumpled heap's bottom, pressed into a frictionless table's plane,
+  // sideways (its velocity changed by 0.6–1.8 mm/s in 0.7 s), and a patch skimming a box's top
+  // back along its slide. Met inside a face, or on a flat edge or vertex, by cloth that started
+  // in front of that plane, the surface's normal there is the plane's (outward: counter-
+  // clockwise faces). (Leaving the flat edges' impacts out instead left grab_pile with 49
+  // intersecting pairs.)
+  auto on_flat_surface = [&](bool edge_edge, const std::array<int, 4>& mesh,
+                             const std::array<int, 2>& primitive, const Corners& c0,
+                             Impact& impact) {
+    // The obstacle's side: the face or edge q (second), or the edge p (first).
+    const bool second = meshes[static_cast<std::size_t>(mesh[3])]->obstacle;
+    if (!second && !(edge_edge && meshes[static_cast<std::size_t>(mesh[0])]->obstacle)) return;
+    const int m = second ? mesh[3] : mesh[0];
+    const CollisionMesh& o = *meshes[static_cast<std::size_t>(m)];
+    const MeshTopology& topology = m_candidates.topology(m);
+    int face = -1;
+    if (edge_edge) {
+      const int e = second ? primitive[1] : primitive[0];
+      if (!flat_edge(o.x0, o.faces, topology, e)) return;
+      face = topology.edge_faces[static_cast<std::size_t>(e)][0];
+    } else {
+      const Vec3 bary(-impact.w[1], -impact.w[2], -impact.w[3]);
+      if (bary.minCoeff() <= 0.0 && !on_flat_feature(o.x0, o.faces, topology, primitive[1], bary))
+        return;
+      face = primitive[1];
+    }
+    // The face's normal at the impact (the obstacle is rigid), toward the cloth's side.
+    Vec3 corner[3];
+    for (int k = 0; k < 3; ++k) {
+      const int v = o.faces(face, k);
+      corner[k] = x0_of(o, v) + impact.t * (x1_of(o, v) - x0_of(o, v));
+    }
+    Vec3 n = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
+    if (!second) n = -n;  // the impact's normal points from q toward p
+    if (n.squaredNorm() == 0.0 || coplanar(n, impact.normal)) return;
+    Vec3 start = Vec3::Zero();  // p − q at x0, with the hit's weights
+    for (std::size_t k = 0; k < 4; ++k) start += impact.w[static_cast<Eigen::Index>(k)] * c0[k];
+    if (n.dot(start) < 0.0) return;  // came from behind the plane: the CCD's own normal
+    impact.normal = n.normalized();
+  };
   // Resolves corners, tests the pair unless every corner is fixed, records a hit. `primitive`:
   // the vertex and face, or the two edges.
   auto test = [&](bool edge_edge, const std::array<int, 4>& mesh, const std::array<int, 4>& vertex,
@@ -192,6 +236,7 @@ int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
     impact.w = hit->w;
     impact.normal = hit->normal;
     impact.t = hit->t;
+    on_flat_surface(edge_edge, mesh, primitive, c0, impact);
     if (orient_outward(meshes, edge_edge, mesh, primitive, c0, options.offset, impact)) {
       // Turned: the pair leaves the obstacle; once it ends outside, nothing is to be stopped.
       double end = 0.0;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "cloth/collision/collision_mesh.hpp"
+
 namespace dexcloth::collision {
 
 namespace {
@@ -125,6 +127,51 @@ bool faces_adjacent(const Triangles& faces, int f, int g) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (faces(f, i) == faces(g, j)) return true;
+  return false;
+}
+
+bool coplanar(const Vec3& n0, const Vec3& n1) {
+  constexpr double kCosine = 1.0 - 1e-6;
+  return n0.dot(n1) >= kCosine * n0.norm() * n1.norm();
+}
+
+bool flat_edge(const Points& x, const Triangles& faces, const MeshTopology& topology, int edge) {
+  const std::array<int, 2>& f = topology.edge_faces[static_cast<std::size_t>(edge)];
+  return f[1] >= 0 && coplanar(face_normal(x, faces, f[0]), face_normal(x, faces, f[1]));
+}
+
+std::optional<Vec3> flat_vertex(const Points& x, const Triangles& faces,
+                                const MeshTopology& topology, int v) {
+  const auto first =
+      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v)]);
+  const auto end =
+      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v) + 1]);
+  if (first == end) return std::nullopt;
+  const Vec3 normal = face_normal(x, faces, topology.vertex_faces[first]);
+  for (std::size_t k = first; k < end; ++k) {
+    const int f = topology.vertex_faces[k];
+    const std::array<int, 3>& edges = topology.face_edges[static_cast<std::size_t>(f)];
+    for (int c = 0; c < 3; ++c) {
+      if (faces(f, c) != v) continue;  // its edges at v: c (to c + 1) and c + 2 (from c + 2)
+      for (int e :
+           {edges[static_cast<std::size_t>(c)], edges[static_cast<std::size_t>((c + 2) % 3)]})
+        if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return std::nullopt;  // rim
+    }
+    if (!coplanar(face_normal(x, faces, f), normal)) return std::nullopt;
+  }
+  return normal;
+}
+
+bool on_flat_feature(const Points& x, const Triangles& faces, const MeshTopology& topology,
+                     int face, const Vec3& bary) {
+  for (int k = 0; k < 3; ++k) {
+    const int next = (k + 1) % 3, other = (k + 2) % 3;  // edge k joins corners k and k + 1
+    if (bary[other] == 0.0 && bary[k] > 0.0 && bary[next] > 0.0)
+      return flat_edge(
+          x, faces, topology,
+          topology.face_edges[static_cast<std::size_t>(face)][static_cast<std::size_t>(k)]);
+    if (bary[k] == 1.0) return flat_vertex(x, faces, topology, faces(face, k)).has_value();
+  }
   return false;
 }
 

@@ -3,6 +3,7 @@
 /// (vertex–face, edge–edge) can be generated exactly once from overlapping face pairs.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/types.hpp"
@@ -39,5 +40,22 @@ MeshTopology build_topology(const Triangles& faces, int num_vertices);
 
 /// True when faces `f` and `g` of `faces` share at least one vertex.
 bool faces_adjacent(const Triangles& faces, int f, int g);
+
+/// True when face normals (of any length) `n0` and `n1` agree to about 0.1°.
+bool coplanar(const Vec3& n0, const Vec3& n1);
+
+/// True when `edge` of (`x`, `faces`) joins two coplanar faces: no feature of an obstacle's
+/// surface (the diagonal of a box's or a table's flat side).
+bool flat_edge(const Points& x, const Triangles& faces, const MeshTopology& topology, int edge);
+
+/// The normal of the flat region vertex `v` lies inside (all its faces coplanar, none of its
+/// edges on the mesh's boundary), if it does.
+std::optional<Vec3> flat_vertex(const Points& x, const Triangles& faces,
+                                const MeshTopology& topology, int v);
+
+/// Whether the point of `face` with barycentric weights `bary` lies on a flat edge (one weight
+/// exactly 0) or a flat vertex (one weight 1) of the mesh.
+bool on_flat_feature(const Points& x, const Triangles& faces, const MeshTopology& topology,
+                     int face, const Vec3& bary);
 
 }  // namespace dexcloth::collision

@@ -52,38 +52,10 @@ constexpr double kFoldLength = 0.5 * std::numbers::pi;
 // a flat region (all its faces in one plane, none of its edges on the mesh's boundary): a cloth
 // vertex over one face is nearest another at that vertex, and the vertex is nearest a cloth face
 // above it along a gap that leans with the cloth. Such pairs are left out; the cloth's vertices
-// over the region have their pairs straight down. Coplanar: normals within about 0.1°.
-constexpr double kFlatEdgeCosine = 1.0 - 1e-6;
-
-bool coplanar(const Vec3& n0, const Vec3& n1) {
-  return n0.dot(n1) >= kFlatEdgeCosine * n0.norm() * n1.norm();
-}
-
+// over the region have their pairs straight down (coplanar, flat_edge, flat_vertex and
+// on_flat_feature: mesh_topology.hpp).
 bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
-  const std::array<int, 2>& f = topology.edge_faces[static_cast<std::size_t>(edge)];
-  return f[1] >= 0 && coplanar(face_normal(m.x0, m.faces, f[0]), face_normal(m.x0, m.faces, f[1]));
-}
-
-// The normal of the flat region vertex v lies inside, if it does.
-std::optional<Vec3> flat_vertex(const CollisionMesh& m, const MeshTopology& topology, int v) {
-  const auto first =
-      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v)]);
-  const auto end =
-      static_cast<std::size_t>(topology.vertex_face_start[static_cast<std::size_t>(v) + 1]);
-  if (first == end) return std::nullopt;
-  const Vec3 normal = face_normal(m.x0, m.faces, topology.vertex_faces[first]);
-  for (std::size_t k = first; k < end; ++k) {
-    const int f = topology.vertex_faces[k];
-    const std::array<int, 3>& edges = topology.face_edges[static_cast<std::size_t>(f)];
-    for (int c = 0; c < 3; ++c) {
-      if (m.faces(f, c) != v) continue;  // its edges at v: c (to c + 1) and c + 2 (from c + 2)
-      for (int e :
-           {edges[static_cast<std::size_t>(c)], edges[static_cast<std::size_t>((c + 2) % 3)]})
-        if (topology.edge_faces[static_cast<std::size_t>(e)][1] < 0) return std::nullopt;  // rim
-    }
-    if (!coplanar(face_normal(m.x0, m.faces, f), normal)) return std::nullopt;
-  }
-  return normal;
+  return collision::flat_edge(m.x0, m.faces, topology, edge);
 }
 
 bool along(const Vec3& gap, const Vec3& n) {
@@ -95,15 +67,7 @@ bool along(const Vec3& gap, const Vec3& n) {
 bool on_flat_feature(const CollisionMesh& m, const MeshTopology& topology, int face,
                      const Vec3& bary, const Vec3& gap, const Vec3& n) {
   if (along(gap, n)) return false;  // straight above the face
-  for (int k = 0; k < 3; ++k) {
-    const int next = (k + 1) % 3, other = (k + 2) % 3;  // edge k joins corners k and k + 1
-    if (bary[other] == 0.0 && bary[k] > 0.0 && bary[next] > 0.0)
-      return flat_edge(
-          m, topology,
-          topology.face_edges[static_cast<std::size_t>(face)][static_cast<std::size_t>(k)]);
-    if (bary[k] == 1.0) return flat_vertex(m, topology, m.faces(face, k)).has_value();
-  }
-  return false;
+  return collision::on_flat_feature(m.x0, m.faces, topology, face, bary);
 }
 
 // Where two shapes of one body overlap, the part of each one's surface inside the other is no
@@ -156,7 +120,8 @@ void vertex_face_proximity(const std::vector<const CollisionMesh*>& meshes,
   if (buried(pieces, candidates, c.face_mesh, c.face, q, thickness)) return;
   if (vm.obstacle) {
     const MeshTopology& topology = candidates.topology(c.vertex_mesh);
-    if (const auto plane = flat_vertex(vm, topology, c.vertex); plane && !along(gap, *plane))
+    if (const auto plane = flat_vertex(vm.x0, vm.faces, topology, c.vertex);
+        plane && !along(gap, *plane))
       return;
     const int face = topology.vertex_faces[static_cast<std::size_t>(
         topology.vertex_face_start[static_cast<std::size_t>(c.vertex)])];
