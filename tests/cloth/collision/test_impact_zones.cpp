@@ -102,9 +102,11 @@ TEST(ImpactZones, ImpossibleConstraintIsReportedNotHidden) {
   EXPECT_NE(report.warnings.front().find("fixed vertices"), std::string::npos)
       << report.warnings.front();
   // Every other vertex over the box stays above it.
-  for (int v = 0; v < s.sheet.x1.rows(); ++v)
-    if (v != centre && std::abs(s.sheet.x0(v, 0)) < kHalf && std::abs(s.sheet.x0(v, 1)) < kHalf)
+  for (int v = 0; v < s.sheet.x1.rows(); ++v) {
+    if (v != centre && std::abs(s.sheet.x0(v, 0)) < kHalf && std::abs(s.sheet.x0(v, 1)) < kHalf) {
       EXPECT_GE(s.sheet.x1(v, 2), kTop) << v;
+    }
+  }
 }
 
 TEST(ImpactZones, AZoneWhoseProjectionFailsMovesRigidlyWithTheMotionItCameWith) {
@@ -230,7 +232,7 @@ TEST(ImpactZones, ClothSkimmingAnObstaclesFaceIsStoppedAlongItsNormalNotPushedSi
   // impact's normal is now the face's, so it is lifted, not pushed back along its slide. In
   // the middle of the top its edges also cross the top's diagonal, no edge of the box's
   // surface: those edge–edge impacts take the plane's normal too (they had pushed it 1.5 mm).
-  for (const Vec3 corner : {Vec3(0.1, -0.2, 0.0), Vec3(-0.01, -0.01, 0.0)}) {
+  for (const Vec3& corner : {Vec3(0.1, -0.2, 0.0), Vec3(-0.01, -0.01, 0.0)}) {
     CollisionMesh box = make_box(Vec3(-kHalf, -kHalf, -kTop), Vec3(kHalf, kHalf, kTop));
     CollisionMesh patch = make_sheet(1, 1, 0.02, 0.02, corner + Vec3(0.0, 0.0, kTop + 1e-5), 1e-3);
     patch.x1 = patch.x0.rowwise() + Eigen::RowVector3d(0.01, 0.0, -1.2e-5);
