@@ -60,7 +60,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   DEXCLOTH_DEMAND(margin >= 0.0 && obstacle_margin >= margin);
   const std::size_t nm = meshes.size();
   const auto inflation = [&](std::size_t m) {
-    return meshes[m]->obstacle && meshes[m]->beyond_thickness ? obstacle_margin : margin;
+    return searched_beyond_thickness(*meshes[m]) ? obstacle_margin : margin;
   };
   if (m_topology.size() != nm) {
     m_topology.clear();

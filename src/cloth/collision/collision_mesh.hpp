@@ -41,6 +41,11 @@ struct CollisionMesh {
 /// the caller.
 void demand_valid(const CollisionMesh& mesh);
 
+/// True when the proximity search takes `mesh`'s pairs with cloth out to its obstacle reach.
+inline bool searched_beyond_thickness(const CollisionMesh& mesh) {
+  return mesh.obstacle && mesh.beyond_thickness;
+}
+
 /// True when responses must not move vertex `v`: obstacle meshes and frozen vertices.
 inline bool is_fixed(const CollisionMesh& mesh, int v) {
   return mesh.obstacle || (!mesh.frozen.empty() && mesh.frozen[static_cast<std::size_t>(v)] != 0);

@@ -54,9 +54,6 @@ constexpr double kFoldLength = 0.5 * std::numbers::pi;
 // above it along a gap that leans with the cloth. Such pairs are left out; the cloth's vertices
 // over the region have their pairs straight down (coplanar, flat_edge, flat_vertex and
 // on_flat_feature: mesh_topology.hpp).
-bool flat_edge(const CollisionMesh& m, const MeshTopology& topology, int edge) {
-  return collision::flat_edge(m.x0, m.faces, topology, edge);
-}
 
 bool along(const Vec3& gap, const Vec3& n) {
   return gap.cross(n).norm() <= 1e-6 * gap.norm() * n.norm();
@@ -93,8 +90,7 @@ bool buried(const std::vector<ObstaclePieces>& pieces, const CollisionCandidates
 /// beyond the thickness, else `thickness`.
 double reach(const CollisionMesh& a, const CollisionMesh& b, double thickness,
              double obstacle_reach) {
-  const auto beyond = [](const CollisionMesh& m) { return m.obstacle && m.beyond_thickness; };
-  return beyond(a) || beyond(b) ? obstacle_reach : thickness;
+  return searched_beyond_thickness(a) || searched_beyond_thickness(b) ? obstacle_reach : thickness;
 }
 
 /// The proximity of vertex–face candidate `c`, if closer than `thickness` (or `obstacle_reach`,
@@ -162,8 +158,8 @@ void edge_edge_proximity(const std::vector<const CollisionMesh*>& meshes,
   const bool cloth_pair = !ma.obstacle && !mb.obstacle;
   if (dist >= reach(ma, mb, thickness, obstacle_reach)) return;
   if (cloth_pair && !across_surface(gap, (p1 - p0).cross(q1 - q0))) return;
-  if ((ma.obstacle && flat_edge(ma, candidates.topology(c.mesh_a), c.edge_a)) ||
-      (mb.obstacle && flat_edge(mb, candidates.topology(c.mesh_b), c.edge_b)))
+  if ((ma.obstacle && flat_edge(ma.x0, ma.faces, candidates.topology(c.mesh_a), c.edge_a)) ||
+      (mb.obstacle && flat_edge(mb.x0, mb.faces, candidates.topology(c.mesh_b), c.edge_b)))
     return;
   const auto buried_edge = [&](int m, int edge, const Vec3& point) {
     const int face = candidates.topology(m).edge_faces[static_cast<std::size_t>(edge)][0];
