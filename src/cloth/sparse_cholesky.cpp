@@ -258,7 +258,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   m_entry_start.assign(1, 0);
   m_entries.clear();
   std::vector<double> work(at(ns), 0.0);  // flops of each front
-  std::size_t max_update = 0;
   for (int s = 0; s < ns; ++s) {
     const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1], w = k2 - k1;
     const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
@@ -267,7 +266,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
     work[at(s)] = w * (w + 1.0) * (2.0 * w + 1.0) / 6.0 + static_cast<double>(b) * w * (w + 1.0) +
                   static_cast<double>(b) * (b + 1.0) * w;
     m_flops += work[at(s)];
-    max_update = std::max(max_update, at(b) * at(b));
     for (int r = 0; r < f; ++r) position[at(m_rows[at(m_row_start[at(s)] + r)])] = r;
     for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
       const int child = m_children[at(c)];
@@ -281,11 +279,10 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
             {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
     m_entry_start.push_back(m_entries.size());
   }
-  schedule(sparent, work, max_update);
+  schedule(sparent, work);
 }
 
-void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector<double>& work,
-                              std::size_t max_update) {
+void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector<double>& work) {
   const int ns = static_cast<int>(sparent.size());
   // A postorder of the supernodal tree (children before parents, each subtree contiguous), so
   // that the update matrices waiting for their parents form a stack.
@@ -363,33 +360,43 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
     if (in_top[at(s)]) m_top_order.push_back(s);
   schedule_solves(in_top);
 
-  // Stack offsets: each thread's region, then the top's. A supernode's update sits where its
-  // first child's (of its region) was, its children's being consumed.
+  // Stack offsets: each thread's region, then the top's, each holding two stacks, one for the
+  // supernodes at even depths of the tree and one for those at odd depths, so that a supernode
+  // builds its update matrix in place, on one stack, while its children's wait on the other
+  // (one stack would put it over them). A supernode's children are the top of their stack when
+  // its turn comes (the ones pushed after them have been consumed); they are popped as it is
+  // pushed.
+  std::vector<int> depth(at(ns), 0);
+  for (int s = ns - 1; s >= 0; --s)
+    if (sparent[at(s)] >= 0) depth[at(s)] = depth[at(sparent[at(s)])] + 1;
   m_stack_offset.assign(at(ns), 0);
   std::size_t base = 0;
   const auto place = [&](const std::vector<int>& order) {
-    std::size_t top = base, peak = base;
+    std::size_t top[2] = {0, 0}, peak[2] = {0, 0};
     for (int s : order) {
+      const int parity = depth[at(s)] % 2;
       for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
         const int child = m_children[at(c)];
         if (in_top[at(child)] == in_top[at(s)]) {
-          top = m_stack_offset[at(child)];
+          top[1 - parity] = m_stack_offset[at(child)];
           break;
         }
       }
       const int w = m_first[at(s) + 1] - m_first[at(s)];
       const int b = m_row_start[at(s) + 1] - m_row_start[at(s)] - w;
-      m_stack_offset[at(s)] = top;
-      top += at(b) * at(b);
-      peak = std::max(peak, top);
+      m_stack_offset[at(s)] = top[parity];
+      top[parity] += at(b) * at(b);
+      peak[parity] = std::max(peak[parity], top[parity]);
     }
-    base = peak;
+    // From offsets within each stack to offsets in the buffer: the even stack, then the odd.
+    for (int s : order) m_stack_offset[at(s)] += base + (depth[at(s)] % 2 == 1 ? peak[0] : 0);
+    base += peak[0] + peak[1];
   };
   for (const std::vector<int>& order : m_task_order) place(order);
   place(m_top_order);
   m_stack_size = base;
   m_failure.assign(at(threads), -1);
-  size_buffers(max_update);
+  size_buffers();
 }
 
 template <class T>
@@ -410,7 +417,7 @@ const SparseCholesky::Numeric<T>& SparseCholesky::numeric() const {
   }
 }
 
-void SparseCholesky::size_buffers(std::size_t max_update) {
+void SparseCholesky::size_buffers() {
   const int threads = m_pool ? m_pool->threads() : 1;
   // Only sized, the contents neither kept nor zeroed (every factorisation writes what it reads;
   // zeroing the last analysis's ~14 MB of panels took a third of pinch_move's re-analyses, and
@@ -418,8 +425,6 @@ void SparseCholesky::size_buffers(std::size_t max_update) {
   const auto size = [&](auto& numeric) {
     numeric.panel.resize(m_panel_start.back());
     numeric.stack.resize(m_stack_size);
-    numeric.front.resize(at(threads));
-    for (auto& front : numeric.front) front.resize(max_update);
     numeric.deferred.resize(m_deferred_start.back());
     numeric.gather.resize(at(threads));
     numeric.product.resize(at(threads));
@@ -466,12 +471,12 @@ void SparseCholesky::schedule_solves(const std::vector<char>& in_top) {
 }
 
 template <class T>
-int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<const int> source,
-                                 T* U) {
+int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<const int> source) {
   Numeric<T>& numeric = this->numeric<T>();
   const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
   T* P = numeric.panel.data() + m_panel_start[at(s)];
+  T* U = numeric.stack.data() + m_stack_offset[at(s)];  // built in place
   // The front: this supernode's columns of A, ...
   // (Of the update matrices only the lower triangles are written and read.)
   std::fill(P, P + at(f) * at(w), T{0});
@@ -506,9 +511,6 @@ int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<
   if (b > 0) {
     blas::solve_right_lower_transposed(b, w, P, f, P + w, f);
     blas::subtract_gram(b, w, P + w, f, U, b);
-    T* stacked = numeric.stack.data() + m_stack_offset[at(s)];
-    for (int q = 0; q < b; ++q)
-      std::copy(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), stacked + at(q) * at(b) + at(q));
   }
   return -1;
 }
@@ -524,13 +526,11 @@ int SparseCholesky::factorize(std::span<const double> base, std::span<const int>
 
 template <class T>
 int SparseCholesky::factorize_in(std::span<const double> base, std::span<const int> source) {
-  Numeric<T>& numeric = this->numeric<T>();
   // The threads' subtrees (each stops at its first failed pivot), then the top.
   auto subtrees = [&](int t) {
     m_failure[at(t)] = -1;
     for (int s : m_task_order[at(t)])
-      if ((m_failure[at(t)] = factor_front(s, base, source, numeric.front[at(t)].data())) >= 0)
-        return;
+      if ((m_failure[at(t)] = factor_front<T>(s, base, source)) >= 0) return;
   };
   if (m_pool) {
     m_pool->run(subtrees);
@@ -542,7 +542,7 @@ int SparseCholesky::factorize_in(std::span<const double> base, std::span<const i
     if (f >= 0 && (failed < 0 || f < failed)) failed = f;
   if (failed >= 0) return failed;
   for (int s : m_top_order)
-    if (const int f = factor_front(s, base, source, numeric.front[0].data()); f >= 0) return f;
+    if (const int f = factor_front<T>(s, base, source); f >= 0) return f;
   return -1;
 }
 

@@ -76,22 +76,22 @@ class SparseCholesky {
   double m_flops{};
   double m_parallel_share{1.0};
   /// Builds the multifrontal schedule (see the members below) from the supernodal tree
-  /// (`sparent`, −1 for roots), each front's flops and the largest update matrix.
-  void schedule(const std::vector<int>& sparent, const std::vector<double>& work,
-                std::size_t max_update);
-  /// Assembles and partially factorises supernode s's front (update matrix built in `U`), A's
-  /// value k being base[k], or base[source[k]] when `source` is not empty; returns −1, or the
-  /// column of a failed pivot.
+  /// (`sparent`, −1 for roots) and each front's flops.
+  void schedule(const std::vector<int>& sparent, const std::vector<double>& work);
+  /// Assembles and partially factorises supernode s's front (its update matrix built in place
+  /// on the stack), A's value k being base[k], or base[source[k]] when `source` is not empty;
+  /// returns −1, or the column of a failed pivot.
   template <class T>
-  int factor_front(int s, std::span<const double> base, std::span<const int> source, T* U);
+  int factor_front(int s, std::span<const double> base, std::span<const int> source);
   template <class T>
   int factorize_in(std::span<const double> base, std::span<const int> source);
 
   // Multifrontal schedule: supernodes children first (a postorder), each one's update matrix
-  // at m_stack_offset[s] of the stack; its children's update rows land at m_relmap positions
-  // (per supernode, one per row below its columns) of the parent's front. Thread t factorises
-  // the subtrees m_tasks[t] (their supernodes in m_task_order[t], update matrices in its own
-  // region of the stack), then the supernodes above them, m_top_order, are done serially.
+  // at m_stack_offset[s] of the stack (two stacks: even and odd depths of the tree); its
+  // children's update rows land at m_relmap positions (per supernode, one per row below its
+  // columns) of the parent's front. Thread t factorises the subtrees m_tasks[t] (their
+  // supernodes in m_task_order[t], update matrices in its own region of the stack), then the
+  // supernodes above them, m_top_order, are done serially.
   std::vector<int> m_postorder, m_child_start, m_children, m_relmap, m_top_order;
   std::vector<std::vector<int>> m_tasks, m_task_order;
   std::vector<std::size_t> m_stack_offset;
@@ -113,13 +113,12 @@ class SparseCholesky {
   std::vector<char> m_in_top;
   std::vector<std::size_t> m_deferred_start;
 
-  /// The numeric buffers of one precision: the panels of L, the update matrices' stack, per
-  /// thread the update matrix being built; the solves' deferred updates and per-thread scratch;
-  /// in single precision only, the solve's vector.
+  /// The numeric buffers of one precision: the panels of L, the update matrices' stacks; the
+  /// solves' deferred updates and per-thread scratch; in single precision only, the solve's
+  /// vector.
   template <class T>
   struct Numeric {
     BasicScratchArray<T> panel, stack;
-    std::vector<BasicScratchArray<T>> front;
     mutable std::vector<T> deferred, x;
     mutable std::vector<std::vector<T>> gather, product;
   };
@@ -132,7 +131,7 @@ class SparseCholesky {
   const Numeric<T>& numeric() const;
   std::size_t m_stack_size{};  // entries of the update matrices' stack
   /// Sizes the buffers of the analysed precision and frees the other's.
-  void size_buffers(std::size_t max_update);
+  void size_buffers();
   /// Entry k of supernode s's panel, in double.
   double entry(int s, std::size_t k) const;
   /// The solves' schedule (above) from the factorisation's.
