@@ -59,6 +59,19 @@ void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const 
   });
 }
 
+void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
+                    Eigen::VectorXd& y, WorkerPool* pool) {
+  DEXCLOTH_ASSERT(x.size() == 3 * p.num_vertices && y.size() == 3 * p.num_vertices);
+  const int nv = p.num_vertices;
+  for_each_index(nv >= kParallelMinVertices ? pool : nullptr,
+                 static_cast<std::size_t>(num_chunks(nv)), [&](std::size_t chunk) {
+                   const int first = static_cast<int>(chunk) * kPcgChunkVertices;
+                   const int last = std::min(first + kPcgChunkVertices, nv);
+                   for (int i = first; i < last; ++i)
+                     y.segment<3>(3 * i) = row_product(p, blocks, x, i);
+                 });
+}
+
 void BlockPcg::resize(int num_vertices) {
   m_inv_diag.resize(static_cast<std::size_t>(num_vertices));
   for (Eigen::VectorXd* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(3 * num_vertices);

@@ -10,6 +10,7 @@
 
 #include "cloth/system_pattern.hpp"
 #include "core/types.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::cloth {
 
@@ -20,6 +21,10 @@ inline constexpr int kPcgChunkVertices = 64;
 /// block); x and y of size 3|V|. Uses up to `threads` OpenMP threads for large systems.
 void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
                     Eigen::VectorXd& y, int threads = 1);
+/// The same on `pool`'s threads (null: the calling thread), its chunks taken as threads come
+/// free; bitwise the same as on one thread.
+void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
+                    Eigen::VectorXd& y, WorkerPool* pool);
 
 /// Outcome of one PCG solve.
 struct PcgResult {

@@ -75,6 +75,12 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
   d.cholesky.analyze(n, d.col_start, d.row, threads, precision);
 }
 
+WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws) {
+  if (threads <= 1) return nullptr;
+  if (!ws.pool || ws.pool->threads() != threads) ws.pool = std::make_unique<WorkerPool>(threads);
+  return ws.pool.get();
+}
+
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
   DynamicsReport report;
   report.iterations = 1;
@@ -260,10 +266,8 @@ void assemble(const ClothModel& model, const ClothState& state, double h, const 
   if (ahead) return;
   const int pieces = assembly_pieces(model, ws);
   const AssemblyView in{state.x, state.v, state.f_ext, h, gravity};
-  const int threads = pieces > 1 ? model.solver.threads : 1;
-  if (threads > 1 && (!ws.assembly_pool || ws.assembly_pool->threads() != threads))
-    ws.assembly_pool = std::make_unique<WorkerPool>(threads);
-  for_each_index(threads > 1 ? ws.assembly_pool.get() : nullptr, static_cast<std::size_t>(pieces),
+  for_each_index(solver_pool(pieces > 1 ? model.solver.threads : 1, ws),
+                 static_cast<std::size_t>(pieces),
                  [&](std::size_t k) { assemble_part(model, in, ws.assembly_parts[k], ws); });
 }
 
@@ -359,11 +363,11 @@ DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   return report;
 }
 
-/// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv. One thread: a single product,
-/// after which OpenMP's workers would spin (7.8 % of a two-thread pinch_move run) beside the
-/// factorisation's and the collision searches' threads.
+/// Relative residual ‖A·Δv − b‖/‖b‖ of the solution in ws.dv, its product on the solver's pool
+/// (OpenMP's workers would spin after it, 7.8 % of a two-thread pinch_move run, beside the
+/// factorisation's and the collision searches' threads).
 double direct_residual(const ClothModel& model, DynamicsWorkspace& ws) {
-  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, 1);
+  block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, solver_pool(model.solver.threads, ws));
   ws.work -= ws.rhs;
   const double b_norm = ws.rhs.norm();
   return ws.work.norm() / (b_norm > 0.0 ? b_norm : 1.0);

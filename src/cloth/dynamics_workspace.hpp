@@ -87,9 +87,11 @@ struct DynamicsWorkspace {
   // friction gradients at its start (q).
   Eigen::VectorXd schur_delta, schur_g0;
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
-  // Assembly in pieces, on several threads (no pool for one), or ahead of the solve.
+  // Assembly in pieces, on several threads, or ahead of the solve.
   std::vector<AssemblyPart> assembly_parts;
-  std::unique_ptr<WorkerPool> assembly_pool;
+  /// The solver's threads beside the factorisation's own (assembly pieces, residual products);
+  /// none for one thread (solver_pool).
+  std::unique_ptr<WorkerPool> pool;
   AssemblyInputs assembly_inputs;
   std::vector<char> piece_done;  ///< per piece of an assembly ahead: assembled; empty: none
 
@@ -111,6 +113,9 @@ void analyse(const SystemPattern& pattern, std::span<const int> order, int threa
 /// vertex v, eliminated k-th (a permutation of 0 .. 3|V| − 1). d.order is left empty.
 void analyse_unknowns(const SystemPattern& pattern, std::span<const int> dofs, int threads,
                       DirectSystem& d, Precision precision = Precision::double_precision);
+
+/// ws.pool sized for `threads` (created on first use), or null for one thread.
+WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws);
 
 /// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
 /// failed.

@@ -325,10 +325,11 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
       out.segment<3>(3 * F[a]) = frame[a] * out.segment<3>(3 * F[a]);
   };
   // Every row of the system balances, the friction vertices' with their impulses: the relative
-  // residual of Δv (one thread, as direct_residual), A·Δv − b + ∇Φ left in ws.work.
+  // residual of Δv (its product on the solver's pool, as direct_residual), A·Δv − b + ∇Φ left in
+  // ws.work.
   const double b_norm = ws.rhs.norm();
   const auto residual = [&] {
-    block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, 1);
+    block_multiply(model.pattern, ws.blocks, ws.dv, ws.work, solver_pool(model.solver.threads, ws));
     ws.work -= ws.rhs;
     for (std::size_t k = 0; k < friction.size(); ++k) {
       if (!active[k]) continue;
