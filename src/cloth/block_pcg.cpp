@@ -52,14 +52,6 @@ Vec3 row_product(const SystemPattern& p, std::span<const Mat3> blocks, const Eig
 }  // namespace
 
 void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
-                    Eigen::VectorXd& y, int threads) {
-  DEXCLOTH_ASSERT(x.size() == 3 * p.num_vertices && y.size() == 3 * p.num_vertices);
-  for_each_chunk(p.num_vertices, threads, [&](int first, int last, int /*chunk*/) {
-    for (int i = first; i < last; ++i) y.segment<3>(3 * i) = row_product(p, blocks, x, i);
-  });
-}
-
-void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
                     Eigen::VectorXd& y, WorkerPool* pool) {
   DEXCLOTH_ASSERT(x.size() == 3 * p.num_vertices && y.size() == 3 * p.num_vertices);
   const int nv = p.num_vertices;

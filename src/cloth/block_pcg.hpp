@@ -18,13 +18,10 @@ namespace dexcloth::cloth {
 inline constexpr int kPcgChunkVertices = 64;
 
 /// y = A·x for the symmetric matrix A with pattern `p` and 3×3 `blocks` (one per pattern
-/// block); x and y of size 3|V|. Uses up to `threads` OpenMP threads for large systems.
+/// block); x and y of size 3|V|. Large systems run on `pool`'s threads (null: the calling
+/// thread), in fixed chunks that threads take as they come free: bitwise the same on any.
 void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
-                    Eigen::VectorXd& y, int threads = 1);
-/// The same on `pool`'s threads (null: the calling thread), its chunks taken as threads come
-/// free; bitwise the same as on one thread.
-void block_multiply(const SystemPattern& p, std::span<const Mat3> blocks, const Eigen::VectorXd& x,
-                    Eigen::VectorXd& y, WorkerPool* pool);
+                    Eigen::VectorXd& y, WorkerPool* pool = nullptr);
 
 /// Outcome of one PCG solve.
 struct PcgResult {

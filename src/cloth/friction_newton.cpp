@@ -26,7 +26,8 @@ DynamicsReport solve_friction_newton(const ClothModel& model, const ClothState& 
   // The objective whose minimiser is the step: ½Δvᵀ A Δv − bᵀΔv + Σ B_k φ(‖w_k‖), φ the norm
   // smoothed below ε (φ = s²/2ε + ε/2 there).
   const auto objective = [&](const Eigen::VectorXd& dv) {
-    block_multiply(model.pattern, ws.base_blocks, dv, ws.work, model.solver.threads);
+    block_multiply(model.pattern, ws.base_blocks, dv, ws.work,
+                   solver_pool(model.solver.threads, ws));
     double e = 0.5 * dv.dot(ws.work) - ws.base_rhs.dot(dv);
     for (std::size_t k = 0; k < nf; ++k) {
       if (!active(k)) continue;

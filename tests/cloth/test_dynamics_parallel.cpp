@@ -139,7 +139,7 @@ TEST(DynamicsParallel, TheSystemProductOnAPoolIsBitwiseTheOneThreadProduct) {
   ASSERT_GE(model.num_vertices(), 512);  // large enough for the pool
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0).array().sin();
   Eigen::VectorXd serial(n), pooled(n);
-  block_multiply(model.pattern, ws.blocks, x, serial, 1);
+  block_multiply(model.pattern, ws.blocks, x, serial, nullptr);
   for (int threads : {2, 3}) {
     WorkerPool pool(threads);
     pooled.setConstant(std::nan(""));
