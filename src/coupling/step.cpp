@@ -1,6 +1,7 @@
 #include "coupling/step.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -158,47 +159,86 @@ void load_cloth_motion(const WorldModel& model, WorldData& data) {
   }
 }
 
-/// cloth_dynamics and the proximity search of ClothCollisionDetection, which reads only the
-/// meshes' start positions (x0), not v̄. On several threads the search runs beside the dynamics,
-/// on one thread while the calling thread solves the cloths (the solver has threads of its
-/// own), unless it took longer than the dynamics on all threads at the last step; then after
-/// them, on all threads. Either way each finds what it would alone, so the step is bitwise the
-/// same. Returns cloth_dynamics' friction seconds.
-double dynamics_and_proximities(const WorldModel& model, WorldData& data, WorkerPool* pool) {
-  const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
-  const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());
-  collision::ClothContacts& contacts = data.contacts;
-  const auto search = [&] {
-    collision::find_proximities(view, model.thickness, kObstacleReachThicknesses * model.thickness,
-                                contacts.candidates, contacts.proximities,
-                                contacts.proximity_scratch);
-  };
-  double friction_seconds = 0.0, dynamics_seconds = 0.0, search_seconds = 0.0;
-  const bool beside = pool != nullptr && data.proximities_beside_dynamics;
-  if (beside) {
-    auto task = [&](int t) {
-      Stopwatch clock;
-      if (t == 0) {
-        friction_seconds = cloth_dynamics(model, data);
-        dynamics_seconds = clock.lap();
-      } else if (t == 1) {
-        search();
-        search_seconds = clock.lap() / pool->threads();  // its share on all threads
-      }
-    };
-    contacts.candidates.set_pool(nullptr);
-    pool->run(task);
-    contacts.candidates.set_pool(pool);
-  } else {
-    Stopwatch clock;
-    friction_seconds = cloth_dynamics(model, data);
-    dynamics_seconds = clock.lap();
-    search();
-    search_seconds = clock.lap();
+/// The proximity search of ClothCollisionDetection among `meshes` (at their x0), into
+/// `proximities`, on the candidates' pool.
+void search_proximities(const WorldModel& model,
+                        const std::vector<const collision::CollisionMesh*>& meshes,
+                        collision::ClothContacts& contacts,
+                        std::vector<collision::Proximity>& proximities) {
+  collision::find_proximities(meshes, model.thickness, kObstacleReachThicknesses * model.thickness,
+                              contacts.candidates, proximities, contacts.proximity_scratch);
+}
+
+template <class Matrix>
+bool same(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::equal(a.data(), a.data() + a.size(), b.data());
+}
+
+/// Whether meshes `a` and `b` are the same to the proximity search: start positions, faces,
+/// rest shape and flags, bitwise.
+bool same_search(const collision::CollisionMesh& a, const collision::CollisionMesh& b) {
+  return same(a.x0, b.x0) && same(a.faces, b.faces) && same(a.rest, b.rest) &&
+         a.obstacle == b.obstacle && a.beyond_thickness == b.beyond_thickness &&
+         a.self_collision == b.self_collision;
+}
+
+/// The collision meshes as load_collision_meshes will start the next step, as far as the
+/// proximity search reads them: the cloths at their end of this step, the bodies at their x1
+/// of this step (where the cloth was made free of them). Read beside the rigid step, which
+/// changes neither.
+void load_lookahead_meshes(const WorldModel& model, const WorldData& data,
+                           std::vector<collision::CollisionMesh>& out) {
+  out.resize(data.meshes.size());
+  for (std::size_t m = 0; m < data.meshes.size(); ++m) {
+    const collision::CollisionMesh& mesh = data.meshes[m];
+    collision::CollisionMesh& next = out[m];
+    next.x0 = m < model.cloths.size() ? data.cloths[m].x : mesh.x1;
+    next.faces = mesh.faces;
+    next.rest = mesh.rest;
+    next.obstacle = mesh.obstacle;
+    next.beyond_thickness = mesh.beyond_thickness;
+    next.self_collision = mesh.self_collision;
   }
-  // Beside: max(dynamics, threads · search); after: dynamics + search.
-  data.proximities_beside_dynamics = search_seconds < dynamics_seconds;
+}
+
+/// cloth_dynamics and the proximity search of ClothCollisionDetection, which reads only the
+/// meshes' start positions (x0), not v̄. The search is run at the end of the last step, beside
+/// the rigid step (lookahead_proximities); its proximities are taken when this step starts with
+/// the meshes it searched, which is checked. Otherwise (the first step, or meshes changed
+/// between steps) it runs here, after the dynamics, on all threads. Either way it finds the
+/// same pairs in the same order. Returns cloth_dynamics' friction seconds.
+double dynamics_and_proximities(const WorldModel& model, WorldData& data) {
+  ProximityLookahead& lookahead = data.lookahead;
+  bool looked_ahead = lookahead.ready && lookahead.thickness == model.thickness &&
+                      lookahead.meshes.size() == data.meshes.size();
+  for (std::size_t m = 0; looked_ahead && m < data.meshes.size(); ++m)
+    looked_ahead = same_search(lookahead.meshes[m], data.meshes[m]);
+  lookahead.ready = false;
+  const double friction_seconds = cloth_dynamics(model, data);
+  if (looked_ahead) {
+    data.contacts.proximities.swap(lookahead.proximities);
+  } else {
+    const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
+    search_proximities(model, {meshes.begin(), meshes.end()}, data.contacts,
+                       data.contacts.proximities);
+  }
   return friction_seconds;
+}
+
+/// The next step's proximity search (dynamics_and_proximities), at the meshes' next start:
+/// run at the end of a step, beside the rigid step, on one thread.
+void lookahead_proximities(const WorldModel& model, WorldData& data) {
+  ProximityLookahead& lookahead = data.lookahead;
+  load_lookahead_meshes(model, data, lookahead.meshes);
+  std::vector<const collision::CollisionMesh*> view;
+  for (const collision::CollisionMesh& m : lookahead.meshes) view.push_back(&m);
+  WorkerPool* pool = data.contacts.candidates.pool();
+  data.contacts.candidates.set_pool(nullptr);
+  search_proximities(model, view, data.contacts, lookahead.proximities);
+  data.contacts.candidates.set_pool(pool);
+  lookahead.thickness = model.thickness;
+  lookahead.ready = true;
 }
 
 /// StrainLimit (Algorithm 1): per cloth with limits, frozen vertices fixed.
@@ -261,10 +301,11 @@ void rigid_step(WorldData& data) {
 }
 
 /// rigid_step beside the assembly of the next step's cloth systems, which depends on the cloths
-/// alone (positions, velocities and the stacked layers' reactions, final by now): the calling
-/// thread steps the bodies, then joins the other threads on the assembly's pieces. The next
-/// cloth_dynamics finds each system assembled, bitwise as it would assemble it. Returns the
-/// rigid step's seconds.
+/// alone (positions, velocities and the stacked layers' reactions, final by now), and the next
+/// step's proximity search (lookahead_proximities), which depends on the cloths and on where the
+/// bodies were last resolved against: the calling thread steps the bodies, a second the search,
+/// then each joins the others on the assembly's pieces. The next cloth_dynamics finds each
+/// system assembled, bitwise as it would assemble it. Returns the rigid step's seconds.
 double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, WorkerPool* pool) {
   data.assembly_pieces.clear();
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
@@ -279,11 +320,25 @@ double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, Work
     rigid_step(data);
     rigid_seconds = clock.lap();
   };
-  for_each_index_after(pool, rigid, data.assembly_pieces.size(), [&](std::size_t k) {
+  const auto assemble = [&](std::size_t k) {
     const auto [c, piece] = data.assembly_pieces[k];
     cloth::assemble_piece(model.cloths[static_cast<std::size_t>(c)].model,
                           data.cloths[static_cast<std::size_t>(c)], piece);
-  });
+  };
+  const std::size_t count = data.assembly_pieces.size();
+  if (pool == nullptr) {
+    rigid();
+    lookahead_proximities(model, data);
+    for (std::size_t k = 0; k < count; ++k) assemble(k);
+    return rigid_seconds;
+  }
+  std::atomic<std::size_t> next{0};
+  auto task = [&](int t) {
+    if (t == 0) rigid();
+    if (t == 1) lookahead_proximities(model, data);
+    for (std::size_t k = next++; k < count; k = next++) assemble(k);
+  };
+  pool->run(task);
   return rigid_seconds;
 }
 
@@ -309,7 +364,7 @@ void step(const WorldModel& model, WorldData& data) {
   // the proximities of Vr, Vc = ClothCollisionDetection(x, v̄, q, q̇), found at x and q.
   if (bai_liu) friction_constraints(cloths, h, kCoplanarDeg, data);
   load_collision_meshes(model, data);
-  const double friction_seconds = dynamics_and_proximities(model, data, pool);
+  const double friction_seconds = dynamics_and_proximities(model, data);
   // The repulsion on v̄; in the kinematic baseline it also applies ARCSim's capped friction.
   load_cloth_motion(model, data);
   collision::RepulsionOptions repulsion;

@@ -106,6 +106,16 @@ struct SpeculativeScratch {
   std::vector<ContactGroup> merged;  ///< the step's groups with them (merge_speculative_groups)
 };
 
+/// The next step's proximity search, run at the end of a step beside the rigid step (step.cpp):
+/// the collision meshes as the next step will start (x0 and what the search reads) and the
+/// proximities found among them, used when the next step starts with exactly those meshes.
+struct ProximityLookahead {
+  std::vector<collision::CollisionMesh> meshes;  ///< cloths first, then rigid bodies (no x1)
+  std::vector<collision::Proximity> proximities;
+  double thickness{};  ///< the search's thickness [m]
+  bool ready{};        ///< found at the end of the last step
+};
+
 /// Everything a step changes.
 struct WorldData {
   std::vector<cloth::ClothState> cloths;  ///< one per WorldModel::cloths
@@ -134,7 +144,7 @@ struct WorldData {
   SpeculativeScratch speculative;
   Points normals;                       ///< vertex normals scratch
   std::unique_ptr<WorkerPool> pool;     ///< the step's threads when WorldModel::threads > 1
-  bool proximities_beside_dynamics{true};  ///< the proximity search's place in the next step
+  ProximityLookahead lookahead;
 };
 
 /// Initial data: cloths at rest, time zero, the rigid world as built by the caller.
