@@ -33,6 +33,11 @@ constexpr double kCoplanarDeg = 2.0;
 /// thicknesses), nor in the kinematic baseline (ARCSim's search).
 constexpr double kObstacleReachThicknesses = 1.25;
 
+/// The proximity search's placement (search_ahead): the weight of a step's cost in its moving
+/// average, and how often the costlier placement is tried again [steps].
+constexpr double kPlacementWeight = 0.1;
+constexpr int kPlacementTrial = 16;
+
 /// Wall-clock laps for the Table-1 breakdown.
 class Stopwatch {
  public:
@@ -203,27 +208,58 @@ void load_lookahead_meshes(const WorldModel& model, const WorldData& data,
 }
 
 /// cloth_dynamics and the proximity search of ClothCollisionDetection, which reads only the
-/// meshes' start positions (x0), not v̄. The search is run at the end of the last step, beside
-/// the rigid step (lookahead_proximities); its proximities are taken when this step starts with
-/// the meshes it searched, which is checked. Otherwise (the first step, or meshes changed
-/// between steps) it runs here, after the dynamics, on all threads. Either way it finds the
-/// same pairs in the same order. Returns cloth_dynamics' friction seconds.
-double dynamics_and_proximities(const WorldModel& model, WorldData& data) {
+/// meshes' start positions (x0), not v̄. When the search ran at the end of the last step, beside
+/// the rigid step (lookahead_proximities), its proximities are taken if this step starts with
+/// the meshes it searched, which is checked. Otherwise, on several threads the search runs
+/// beside the dynamics, on one thread while the calling thread solves the cloths (the solver
+/// has threads of its own); on one thread, after them. Wherever it runs it finds the same pairs
+/// in the same order. Returns cloth_dynamics' friction seconds.
+double dynamics_and_proximities(const WorldModel& model, WorldData& data, WorkerPool* pool) {
+  Stopwatch clock;
   ProximityLookahead& lookahead = data.lookahead;
   bool looked_ahead = lookahead.ready && lookahead.thickness == model.thickness &&
                       lookahead.meshes.size() == data.meshes.size();
   for (std::size_t m = 0; looked_ahead && m < data.meshes.size(); ++m)
     looked_ahead = same_search(lookahead.meshes[m], data.meshes[m]);
   lookahead.ready = false;
-  const double friction_seconds = cloth_dynamics(model, data);
+  const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
+  const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());
+  collision::ClothContacts& contacts = data.contacts;
+  double friction_seconds = 0.0;
   if (looked_ahead) {
-    data.contacts.proximities.swap(lookahead.proximities);
+    contacts.proximities.swap(lookahead.proximities);
+    friction_seconds = cloth_dynamics(model, data);
+  } else if (pool != nullptr) {
+    auto task = [&](int t) {
+      if (t == 0) friction_seconds = cloth_dynamics(model, data);
+      if (t == 1) search_proximities(model, view, contacts, contacts.proximities);
+    };
+    contacts.candidates.set_pool(nullptr);
+    pool->run(task);
+    contacts.candidates.set_pool(pool);
   } else {
-    const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
-    search_proximities(model, {meshes.begin(), meshes.end()}, data.contacts,
-                       data.contacts.proximities);
+    friction_seconds = cloth_dynamics(model, data);
+    search_proximities(model, view, contacts, contacts.proximities);
+  }
+  // The cost of the placement taken at the end of the last step.
+  if (lookahead.rigid_phase > 0.0) {
+    double& cost = lookahead.cost[lookahead.ahead ? 0 : 1];
+    const double sample = lookahead.rigid_phase + clock.lap();
+    cost = cost < 0.0 ? sample : cost + kPlacementWeight * (sample - cost);
   }
   return friction_seconds;
+}
+
+/// Whether the next step's proximity search runs ahead (beside the rigid step) rather than
+/// beside the next solve: always on one thread (the same work either way), else the placement
+/// of lower cost, the other one every kPlacementTrial-th step (each first once).
+bool search_ahead(ProximityLookahead& lookahead, WorkerPool* pool) {
+  if (pool == nullptr) return true;
+  const double* cost = lookahead.cost;
+  if (cost[0] < 0.0 || cost[1] < 0.0) return cost[0] < 0.0;
+  const bool cheaper = cost[0] <= cost[1];
+  lookahead.trial = (lookahead.trial + 1) % kPlacementTrial;
+  return lookahead.trial == 0 ? !cheaper : cheaper;
 }
 
 /// The next step's proximity search (dynamics_and_proximities), at the meshes' next start:
@@ -301,11 +337,12 @@ void rigid_step(WorldData& data) {
 }
 
 /// rigid_step beside the assembly of the next step's cloth systems, which depends on the cloths
-/// alone (positions, velocities and the stacked layers' reactions, final by now), and the next
-/// step's proximity search (lookahead_proximities), which depends on the cloths and on where the
-/// bodies were last resolved against: the calling thread steps the bodies, a second the search,
-/// then each joins the others on the assembly's pieces. The next cloth_dynamics finds each
-/// system assembled, bitwise as it would assemble it. Returns the rigid step's seconds.
+/// alone (positions, velocities and the stacked layers' reactions, final by now), and, where
+/// search_ahead places it, the next step's proximity search (lookahead_proximities), which
+/// depends on the cloths and on where the bodies were last resolved against: the calling thread
+/// steps the bodies, a second the search, then each joins the others on the assembly's pieces. The
+/// next cloth_dynamics finds each system assembled, bitwise as it would assemble it. Returns the
+/// rigid step's seconds.
 double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, WorkerPool* pool) {
   data.assembly_pieces.clear();
   for (std::size_t c = 0; c < model.cloths.size(); ++c) {
@@ -326,19 +363,22 @@ double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, Work
                           data.cloths[static_cast<std::size_t>(c)], piece);
   };
   const std::size_t count = data.assembly_pieces.size();
+  Stopwatch clock;
+  const bool ahead = data.lookahead.ahead = search_ahead(data.lookahead, pool);
   if (pool == nullptr) {
     rigid();
-    lookahead_proximities(model, data);
+    if (ahead) lookahead_proximities(model, data);
     for (std::size_t k = 0; k < count; ++k) assemble(k);
-    return rigid_seconds;
+  } else {
+    std::atomic<std::size_t> next{0};
+    auto task = [&](int t) {
+      if (t == 0) rigid();
+      if (t == 1 && ahead) lookahead_proximities(model, data);
+      for (std::size_t k = next++; k < count; k = next++) assemble(k);
+    };
+    pool->run(task);
   }
-  std::atomic<std::size_t> next{0};
-  auto task = [&](int t) {
-    if (t == 0) rigid();
-    if (t == 1) lookahead_proximities(model, data);
-    for (std::size_t k = next++; k < count; k = next++) assemble(k);
-  };
-  pool->run(task);
+  data.lookahead.rigid_phase = clock.lap();
   return rigid_seconds;
 }
 
@@ -364,7 +404,7 @@ void step(const WorldModel& model, WorldData& data) {
   // the proximities of Vr, Vc = ClothCollisionDetection(x, v̄, q, q̇), found at x and q.
   if (bai_liu) friction_constraints(cloths, h, kCoplanarDeg, data);
   load_collision_meshes(model, data);
-  const double friction_seconds = dynamics_and_proximities(model, data);
+  const double friction_seconds = dynamics_and_proximities(model, data, pool);
   // The repulsion on v̄; in the kinematic baseline it also applies ARCSim's capped friction.
   load_cloth_motion(model, data);
   collision::RepulsionOptions repulsion;

@@ -114,6 +114,13 @@ struct ProximityLookahead {
   std::vector<collision::Proximity> proximities;
   double thickness{};  ///< the search's thickness [m]
   bool ready{};        ///< found at the end of the last step
+  // On several threads, where the search runs: ahead (beside the rigid step) or beside the
+  // cloth's solve. Each placement's cost is the wall time of the rigid step's phase and of the
+  // next solve's, a moving average; the cheaper is taken, the other tried every few steps.
+  double cost[2]{-1.0, -1.0};  ///< [ahead, beside] [s]; negative: not measured yet
+  bool ahead{};                ///< the placement of the coming step's search
+  int trial{};                 ///< steps since the other placement was last tried
+  double rigid_phase{};        ///< the last rigid step's phase [s] (0: none yet)
 };
 
 /// Everything a step changes.

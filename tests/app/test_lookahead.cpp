@@ -1,7 +1,8 @@
-/// The proximity search runs a step ahead, at the end of the last step beside the rigid step
-/// (coupling/step.cpp): a step takes those proximities only when it starts with the very meshes
-/// they were found among. Stepping with the lookahead must be bitwise stepping without it, also
-/// when the cloth is moved between steps (then the step searches anew).
+/// The proximity search runs a step ahead, at the end of the last step beside the rigid step,
+/// or beside the solve, whichever took less time (coupling/step.cpp): a step takes the
+/// proximities found ahead only when it starts with the very meshes they were found among.
+/// Stepping with the lookahead must be bitwise stepping without it, also when the cloth is moved
+/// between steps (then the step searches anew).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,18 +27,25 @@ struct Outcome {
   std::vector<Points> x, v;
   std::size_t most_proximities{};
   int lookaheads_taken{};
+  bool lookahead_at_lift{};  // whether the search had run ahead of the lifted step
 };
 
-/// kSteps steps of the scene, the last napkin lifted by kLift before step kMovedAt; with
-/// `drop_lookahead`, every step's lookahead is dropped before it, so that each step searches.
+/// kSteps steps of the scene, the last napkin lifted by kLift before step kMovedAt. With
+/// `drop_lookahead`, every step's lookahead is dropped before it, so that each step searches
+/// beside its solve; else the search is made to run ahead (the other placement, beside the
+/// solve, made to look costly: it is still tried every few steps).
 Outcome run(bool drop_lookahead) {
   const scene::SceneSpec spec = scene::load_scene(kScene.string());
   scene::CompiledScene scene = scene::compile_scene(spec);
   coupling::WorldData& data = scene.data;
   Outcome out;
   for (int k = 0; k < kSteps; ++k) {
-    if (k == kMovedAt) data.cloths.back().x.col(2).array() += kLift;
+    if (k == kMovedAt) {
+      data.cloths.back().x.col(2).array() += kLift;
+      out.lookahead_at_lift = data.lookahead.ready;
+    }
     if (drop_lookahead) data.lookahead.ready = false;
+    data.lookahead.cost[1] = 1.0;  // seconds
     out.lookaheads_taken += data.lookahead.ready ? 1 : 0;
     coupling::step(scene.model, data);
     EXPECT_FALSE(data.lost) << "state lost at step " << k;
@@ -59,8 +67,10 @@ bool bitwise_equal(const Points& a, const Points& b) {
 
 TEST(Lookahead, SteppingWithTheLookaheadIsBitwiseSteppingWithout) {
   const Outcome with = run(false), without = run(true);
-  // The lookahead was there at every step but the first, and the napkins touched throughout.
-  EXPECT_EQ(with.lookaheads_taken, kSteps - 1);
+  // The search ran ahead of most steps, the lifted one among them (whose start then differs
+  // from the meshes searched), and the napkins touched throughout.
+  EXPECT_GE(with.lookaheads_taken, kSteps - 4);
+  EXPECT_TRUE(with.lookahead_at_lift);
   EXPECT_EQ(without.lookaheads_taken, 0);
   EXPECT_GT(with.most_proximities, 100u);
   ASSERT_EQ(with.x.size(), 3u);
