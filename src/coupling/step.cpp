@@ -165,13 +165,17 @@ void load_cloth_motion(const WorldModel& model, WorldData& data) {
 }
 
 /// The proximity search of ClothCollisionDetection among `meshes` (at their x0), into
-/// `proximities`, on the candidates' pool.
+/// `proximities`: on the candidates' pool, or with `one_thread` on the calling thread alone
+/// (beside other work on the pool's other threads).
 void search_proximities(const WorldModel& model,
                         const std::vector<const collision::CollisionMesh*>& meshes,
                         collision::ClothContacts& contacts,
-                        std::vector<collision::Proximity>& proximities) {
+                        std::vector<collision::Proximity>& proximities, bool one_thread) {
+  WorkerPool* pool = contacts.candidates.pool();
+  if (one_thread) contacts.candidates.set_pool(nullptr);
   collision::find_proximities(meshes, model.thickness, kObstacleReachThicknesses * model.thickness,
                               contacts.candidates, proximities, contacts.proximity_scratch);
+  contacts.candidates.set_pool(pool);
 }
 
 template <class Matrix>
@@ -222,24 +226,24 @@ double dynamics_and_proximities(const WorldModel& model, WorldData& data, Worker
   for (std::size_t m = 0; looked_ahead && m < data.meshes.size(); ++m)
     looked_ahead = same_search(lookahead.meshes[m], data.meshes[m]);
   lookahead.ready = false;
-  const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
-  const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());
   collision::ClothContacts& contacts = data.contacts;
   double friction_seconds = 0.0;
   if (looked_ahead) {
     contacts.proximities.swap(lookahead.proximities);
     friction_seconds = cloth_dynamics(model, data);
-  } else if (pool != nullptr) {
+  } else {
+    const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
+    const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());
     auto task = [&](int t) {
       if (t == 0) friction_seconds = cloth_dynamics(model, data);
-      if (t == 1) search_proximities(model, view, contacts, contacts.proximities);
+      if (t == 1 || pool == nullptr)
+        search_proximities(model, view, contacts, contacts.proximities, true);
     };
-    contacts.candidates.set_pool(nullptr);
-    pool->run(task);
-    contacts.candidates.set_pool(pool);
-  } else {
-    friction_seconds = cloth_dynamics(model, data);
-    search_proximities(model, view, contacts, contacts.proximities);
+    if (pool != nullptr) {
+      pool->run(task);
+    } else {
+      task(0);
+    }
   }
   // The cost of the placement taken at the end of the last step.
   if (lookahead.rigid_phase > 0.0) {
@@ -269,10 +273,7 @@ void lookahead_proximities(const WorldModel& model, WorldData& data) {
   load_lookahead_meshes(model, data, lookahead.meshes);
   std::vector<const collision::CollisionMesh*> view;
   for (const collision::CollisionMesh& m : lookahead.meshes) view.push_back(&m);
-  WorkerPool* pool = data.contacts.candidates.pool();
-  data.contacts.candidates.set_pool(nullptr);
-  search_proximities(model, view, data.contacts, lookahead.proximities);
-  data.contacts.candidates.set_pool(pool);
+  search_proximities(model, view, data.contacts, lookahead.proximities, true);
   lookahead.thickness = model.thickness;
   lookahead.ready = true;
 }

@@ -119,7 +119,7 @@ struct ProximityLookahead {
   // next solve's, a moving average; the cheaper is taken, the other tried every few steps.
   double cost[2]{-1.0, -1.0};  ///< [ahead, beside] [s]; negative: not measured yet
   bool ahead{};                ///< the placement of the coming step's search
-  int trial{};                 ///< steps since the other placement was last tried
+  int trial{};                 ///< steps counted toward the next trial of the costlier one
   double rigid_phase{};        ///< the last rigid step's phase [s] (0: none yet)
 };
 

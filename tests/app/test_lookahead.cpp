@@ -68,7 +68,7 @@ bool bitwise_equal(const Points& a, const Points& b) {
 TEST(Lookahead, SteppingWithTheLookaheadIsBitwiseSteppingWithout) {
   const Outcome with = run(false), without = run(true);
   // The search ran ahead of most steps, the lifted one among them (whose start then differs
-  // from the meshes searched), and the napkins touched throughout.
+  // from the meshes searched), and the napkins were in contact.
   EXPECT_GE(with.lookaheads_taken, kSteps - 4);
   EXPECT_TRUE(with.lookahead_at_lift);
   EXPECT_EQ(without.lookaheads_taken, 0);
