@@ -107,7 +107,11 @@ void scatter(const std::array<int, N * N>& block_of, const std::array<int, N>& v
   Eigen::Matrix<double, 3 * N, 1> ve;
   for (int a = 0; a < N; ++a)
     ve.template segment<3>(3 * a) = v.row(verts[static_cast<std::size_t>(a)]).transpose();
-  const Eigen::Matrix<double, 3 * N, 1> r = -c_rhs_force * grad - c_rhs_damp * (hess * ve);
+  // H·v_e column by column from zero: bitwise what Eigen's matrix–vector kernel sums, without
+  // its call (a third of the bending element's scatter).
+  Eigen::Matrix<double, 3 * N, 1> hv = Eigen::Matrix<double, 3 * N, 1>::Zero();
+  for (int j = 0; j < 3 * N; ++j) hv += hess.col(j) * ve(j);
+  const Eigen::Matrix<double, 3 * N, 1> r = -c_rhs_force * grad - c_rhs_damp * hv;
   for (int a = 0; a < N; ++a) {
     const int i = verts[static_cast<std::size_t>(a)];
     if (i >= part.first_vertex && i < part.end_vertex)
