@@ -1,8 +1,10 @@
 #pragma once
 /// A fixed set of worker threads for coarse parallel tasks (a factorisation's subtrees, a
-/// collision pass's halves). Workers sleep on a condition variable between tasks, so idle
-/// threads cost nothing on a machine shared with other jobs (OpenMP's spinning waits did), and
-/// running a task allocates nothing.
+/// collision pass's halves). A thread waiting on the pool polls for a millisecond, yielding its
+/// core between polls, then sleeps on a condition variable: tasks that follow each other closely
+/// (a step's dozen) find the workers awake, while idle threads cost nothing for long on a
+/// machine shared with other jobs (OpenMP's spinning waits did). Running a task allocates
+/// nothing.
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -39,8 +41,8 @@ class WorkerPool {
   std::condition_variable m_start, m_done;
   void (*m_function)(void*, int){};
   void* m_context{};
-  long m_generation{};  ///< tasks dispatched so far
-  int m_running{};      ///< workers still on the current task
+  std::atomic<long> m_generation{0};  ///< tasks dispatched so far
+  std::atomic<int> m_running{0};      ///< workers still on the current task
   bool m_stop{};
 };
 

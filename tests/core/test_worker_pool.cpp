@@ -13,8 +13,8 @@ using dexcloth::WorkerPool;
 namespace {
 
 // A pause long enough for the pool's threads to be back asleep on their condition variables
-// when the next task comes.
-void let_workers_sleep() { std::this_thread::sleep_for(std::chrono::microseconds(300)); }
+// when the next task comes (they poll for 1 ms first).
+void let_workers_sleep() { std::this_thread::sleep_for(std::chrono::milliseconds(3)); }
 
 }  // namespace
 
