@@ -46,21 +46,21 @@ class WorkerPool {
   bool m_stop{};
 };
 
-/// Calls first() on the calling thread and body(k) for k = 0 .. count − 1, each k on whichever
-/// of `pool`'s threads is free (for pieces of uneven work): the other threads start on the
-/// indices at once, the calling thread joins them when first() returns. With a null `pool`, all
-/// on the calling thread, first() first. Whatever the threads, each k is called once; results
-/// written per k do not depend on them.
+/// Calls first(t) on each of `pool`'s threads t (t = 0 the calling thread) and body(k) for
+/// k = 0 .. count − 1, each k on whichever thread is free (for pieces of uneven work): a thread
+/// joins the indices when its first(t) returns. With a null `pool`, all on the calling thread,
+/// first(0) first. Whatever the threads, each k is called once; results written per k do not
+/// depend on them.
 template <typename First, typename Body>
 void for_each_index_after(WorkerPool* pool, First first, std::size_t count, Body body) {
   if (pool == nullptr) {
-    first();
+    first(0);
     for (std::size_t k = 0; k < count; ++k) body(k);
     return;
   }
   std::atomic<std::size_t> next{0};
   auto task = [&](int t) {
-    if (t == 0) first();
+    first(t);
     for (std::size_t k = next++; k < count; k = next++) body(k);
   };
   pool->run(task);
@@ -70,7 +70,7 @@ void for_each_index_after(WorkerPool* pool, First first, std::size_t count, Body
 template <typename Body>
 void for_each_index(WorkerPool* pool, std::size_t count, Body body) {
   for_each_index_after(
-      pool, [] {}, count, body);
+      pool, [](int) {}, count, body);
 }
 
 }  // namespace dexcloth

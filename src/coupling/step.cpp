@@ -1,7 +1,6 @@
 #include "coupling/step.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -358,27 +357,17 @@ double rigid_step_beside_assembly(const WorldModel& model, WorldData& data, Work
     rigid_step(data);
     rigid_seconds = clock.lap();
   };
-  const auto assemble = [&](std::size_t k) {
+  Stopwatch clock;
+  const bool ahead = data.lookahead.ahead = search_ahead(data.lookahead, pool);
+  const auto first = [&](int t) {
+    if (t == 0) rigid();
+    if (ahead && (t == 1 || pool == nullptr)) lookahead_proximities(model, data);
+  };
+  for_each_index_after(pool, first, data.assembly_pieces.size(), [&](std::size_t k) {
     const auto [c, piece] = data.assembly_pieces[k];
     cloth::assemble_piece(model.cloths[static_cast<std::size_t>(c)].model,
                           data.cloths[static_cast<std::size_t>(c)], piece);
-  };
-  const std::size_t count = data.assembly_pieces.size();
-  Stopwatch clock;
-  const bool ahead = data.lookahead.ahead = search_ahead(data.lookahead, pool);
-  if (pool == nullptr) {
-    rigid();
-    if (ahead) lookahead_proximities(model, data);
-    for (std::size_t k = 0; k < count; ++k) assemble(k);
-  } else {
-    std::atomic<std::size_t> next{0};
-    auto task = [&](int t) {
-      if (t == 0) rigid();
-      if (t == 1 && ahead) lookahead_proximities(model, data);
-      for (std::size_t k = next++; k < count; k = next++) assemble(k);
-    };
-    pool->run(task);
-  }
+  });
   data.lookahead.rigid_phase = clock.lap();
   return rigid_seconds;
 }

@@ -60,7 +60,7 @@ TEST(WorkerPool, ForEachIndexCallsEveryIndexOnceOnUnevenWork) {
     std::vector<std::atomic<int>> calls(97);
     std::atomic<bool> first_done{false};
     dexcloth::for_each_index_after(
-        &pool, [&] { first_done = true; }, calls.size(),
+        &pool, [&](int t) { first_done = first_done || t == 0; }, calls.size(),
         [&](std::size_t k) {
           volatile double sink = 0.0;  // uneven work: index k takes ~k units
           for (std::size_t i = 0; i < 200 * k; ++i) sink = sink + static_cast<double>(i);
