@@ -77,13 +77,15 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
 
 WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws) {
   if (threads <= 1) return nullptr;
+  if (ws.lent_pool != nullptr && ws.lent_pool->threads() == threads) return ws.lent_pool;
   if (!ws.pool || ws.pool->threads() != threads) ws.pool = std::make_unique<WorkerPool>(threads);
   return ws.pool.get();
 }
 
-DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d) {
+DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d, WorkerPool* pool) {
   DynamicsReport report;
   report.iterations = 1;
+  d.cholesky.lend_pool(pool);
   const std::span<const double> base(blocks.data()->data(), 9 * blocks.size());
   if (const int col = d.cholesky.factorize(base, d.source); col >= 0) {
     report.ok = false;
@@ -357,7 +359,7 @@ DynamicsReport solve_direct(const ClothModel& model, DynamicsWorkspace& ws) {
   const SolverSettings& solver = model.solver;
   if (d.order.empty() || d.cholesky.precision() != solver.factor_precision)
     analyse(model.pattern, model.pattern.fill_order, solver.threads, d, solver.factor_precision);
-  DynamicsReport report = factorise(ws.blocks, d);
+  DynamicsReport report = factorise(ws.blocks, d, solver_pool(solver.threads, ws));
   if (!report.ok) return report;
   // Solve in the permuted order.
   const auto n = static_cast<std::size_t>(ws.rhs.size());
@@ -504,6 +506,8 @@ int begin_assembly(const ClothModel& model, ClothState& state, double h, const V
   ws.piece_done.assign(static_cast<std::size_t>(pieces), 0);
   return pieces;
 }
+
+void lend_solver_pool(ClothState& state, WorkerPool* pool) { state.scratch.get().lent_pool = pool; }
 
 void assemble_piece(const ClothModel& model, ClothState& state, int k) {
   DynamicsWorkspace& ws = state.scratch.get();

@@ -8,6 +8,7 @@
 #include "cloth/model.hpp"
 #include "cloth/state.hpp"
 #include "core/types.hpp"
+#include "core/worker_pool.hpp"
 
 namespace dexcloth::cloth {
 
@@ -112,6 +113,12 @@ DynamicsReport solve_velocities(const ClothModel& model, ClothState& state, doub
 /// same.
 int begin_assembly(const ClothModel& model, ClothState& state, double h, const Vec3& gravity);
 void assemble_piece(const ClothModel& model, ClothState& state, int k);
+
+/// Lends `pool` (with model.solver.threads threads; null: none) to the solves on `state` until
+/// lent another: they run on it instead of the solver's own threads. The coupling lends the
+/// pool of its own steps when nothing else runs on it during the solve, so that its workers,
+/// busy just before, need no wake-up from sleep. Results do not depend on the pool.
+void lend_solver_pool(ClothState& state, WorkerPool* pool);
 
 /// Moves the positions with the current velocities: x += h·v (`h` [s]).
 void advance_positions(ClothState& state, double h);

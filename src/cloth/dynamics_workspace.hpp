@@ -89,9 +89,11 @@ struct DynamicsWorkspace {
   Eigen::VectorXd schur_x, schur_r, schur_step, schur_trial;
   // Assembly in pieces, on several threads, or ahead of the solve.
   std::vector<AssemblyPart> assembly_parts;
-  /// The solver's threads beside the factorisation's own (assembly pieces, residual products);
-  /// none for one thread (solver_pool).
+  /// The solver's threads (assembly pieces, factorisations and solves, residual products);
+  /// none for one thread (solver_pool). A caller may lend its own pool for a while instead
+  /// (lent_pool, see lend_solver_pool).
   std::unique_ptr<WorkerPool> pool;
+  WorkerPool* lent_pool{};
   AssemblyInputs assembly_inputs;
   std::vector<char> piece_done;  ///< per piece of an assembly ahead: assembled; empty: none
 
@@ -114,12 +116,15 @@ void analyse(const SystemPattern& pattern, std::span<const int> order, int threa
 void analyse_unknowns(const SystemPattern& pattern, std::span<const int> dofs, int threads,
                       DirectSystem& d, Precision precision = Precision::double_precision);
 
-/// ws.pool sized for `threads` (created on first use), or null for one thread.
+/// The solver's pool for `threads`: ws.lent_pool when it has that many threads, else ws.pool
+/// (created on first use); null for one thread.
 WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws);
 
-/// Factorises `blocks` in `d`'s order; on failure the report names the unknown whose pivot
-/// failed.
-DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d);
+/// Factorises `blocks` in `d`'s order, on `pool` (SparseCholesky::lend_pool; null: the
+/// factor's own threads), which its solves then use too; on failure the report names the
+/// unknown whose pivot failed.
+DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d,
+                         WorkerPool* pool = nullptr);
 
 /// A sliding vertex's slip has settled (Newton's Hessian is used) when it turned by less than
 /// acos(0.9) ≈ 26° since the last iteration.

@@ -178,7 +178,7 @@ DynamicsReport solve_friction_schur(const ClothModel& model, const ClothState& s
   // cloth's own solve.
   eliminate_constraints(model, state, ws.solve_constraints, ws);
   rotate_system(model.pattern, ws);
-  DynamicsReport report = factorise(ws.blocks, ws.schur);
+  DynamicsReport report = factorise(ws.blocks, ws.schur, solver_pool(model.solver.threads, ws));
   const DirectSystem& d = ws.schur;
   for (Eigen::Index k = 0; k < n; ++k) ws.work[k] = ws.rhs[d.dof[static_cast<std::size_t>(k)]];
   restore_system(ws);

@@ -129,11 +129,8 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
                              int threads, Precision precision) {
   DEXCLOTH_DEMAND(threads >= 1);
   m_precision = precision;
-  if (threads == 1) {
-    m_pool.reset();
-  } else if (!m_pool || m_pool->threads() != threads) {
-    m_pool = std::make_unique<WorkerPool>(threads);
-  }
+  m_threads = threads;
+  if (m_own_pool && m_own_pool->threads() != threads) m_own_pool.reset();
   DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
   DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
   for (int j = 0; j < n; ++j)
@@ -317,7 +314,7 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
   // Subtrees for the threads: starting from the roots, the heaviest subtree is split (its root
   // goes to the serial top, its children to the threads) until the subtrees share out within
   // 10 % (largest first onto the least loaded thread).
-  const int threads = m_pool ? m_pool->threads() : 1;
+  const int threads = m_threads;
   std::vector<int> frontier = roots;
   std::vector<char> in_top(at(ns), 0);
   m_tasks.assign(at(threads), {});
@@ -399,6 +396,13 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
   size_buffers();
 }
 
+WorkerPool* SparseCholesky::pool() const {
+  if (m_threads == 1) return nullptr;
+  if (m_lent_pool != nullptr && m_lent_pool->threads() == m_threads) return m_lent_pool;
+  if (!m_own_pool) m_own_pool = std::make_unique<WorkerPool>(m_threads);
+  return m_own_pool.get();
+}
+
 template <class T>
 SparseCholesky::Numeric<T>& SparseCholesky::numeric() {
   if constexpr (std::is_same_v<T, float>) {
@@ -418,7 +422,7 @@ const SparseCholesky::Numeric<T>& SparseCholesky::numeric() const {
 }
 
 void SparseCholesky::size_buffers() {
-  const int threads = m_pool ? m_pool->threads() : 1;
+  const int threads = m_threads;
   // Only sized, the contents neither kept nor zeroed (every factorisation writes what it reads;
   // zeroing the last analysis's ~14 MB of panels took a third of pinch_move's re-analyses, and
   // a vector's copy and zero-fill on growing another third).
@@ -444,7 +448,7 @@ void SparseCholesky::size_buffers() {
 
 void SparseCholesky::schedule_solves(const std::vector<char>& in_top) {
   const int ns = static_cast<int>(in_top.size());
-  const int threads = m_pool ? m_pool->threads() : 1;
+  const int threads = m_threads;
   // Each task's supernodes in column order, and the rows below them that lie in the top: a
   // suffix of the sorted rows, the top being above every subtree (an ancestor's columns follow
   // its descendants').
@@ -532,8 +536,8 @@ int SparseCholesky::factorize_in(std::span<const double> base, std::span<const i
     for (int s : m_task_order[at(t)])
       if ((m_failure[at(t)] = factor_front<T>(s, base, source)) >= 0) return;
   };
-  if (m_pool) {
-    m_pool->run(subtrees);
+  if (WorkerPool* p = pool()) {
+    p->run(subtrees);
   } else {
     subtrees(0);
   }
@@ -594,7 +598,7 @@ void SparseCholesky::forward_in(T* x) const {
       forward_front(s, x, numeric.product[at(t)].data(),
                     numeric.deferred.data() + m_deferred_start[at(s)]);
   };
-  m_pool->run(subtrees);
+  pool()->run(subtrees);
   for (int s = 0; s < ns; ++s) {
     if (m_in_top[at(s)]) {
       forward_front<T>(s, x, numeric.product[0].data(), nullptr);
@@ -648,7 +652,7 @@ void SparseCholesky::backward_in(T* x, int lead) const {
     for (auto it = order.rbegin(); it != order.rend(); ++it)
       backward_front(*it, x, lead, numeric.gather[at(t)].data());
   };
-  m_pool->run(subtrees);
+  pool()->run(subtrees);
 }
 
 void SparseCholesky::trailing_factor(int tail, Eigen::MatrixXd& L22) const {

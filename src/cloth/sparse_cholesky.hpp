@@ -31,6 +31,11 @@ class SparseCholesky {
   /// parallel, the top serially; the factor is bitwise the same for any thread count.
   void analyze(int n, std::span<const int> col_start, std::span<const int> row, int threads = 1,
                Precision precision = Precision::double_precision);
+  /// Runs the factorisations and solves that follow on `pool` (the caller's, with the analysed
+  /// number of threads; it must outlive them or be replaced) instead of a pool of this object's
+  /// own, created when first needed; null or another size: the own one. A caller whose pool
+  /// also runs the work around the solves spares its workers a sleep and a wake-up between them.
+  void lend_pool(WorkerPool* pool) { m_lent_pool = pool; }
   Precision precision() const { return m_precision; }
 
   /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on
@@ -102,7 +107,12 @@ class SparseCholesky {
   std::vector<Entry> m_entries;            // A's values, grouped by supernode
   std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
   std::vector<int> m_failure;              // per thread: a failed pivot's column, or −1
-  std::unique_ptr<WorkerPool> m_pool;      // none for one thread
+  int m_threads{1};                        // threads of the analysis
+  WorkerPool* m_lent_pool{};               // lend_pool's
+  mutable std::unique_ptr<WorkerPool> m_own_pool;  // created when first needed, if nothing is lent
+  /// The pool to run on: the lent one when it has m_threads threads, else the own one; null for
+  /// one thread.
+  WorkerPool* pool() const;
 
   // Solves on the threads (large factors only): task t's supernodes in column order
   // (m_solve_order[t]); whether a supernode is in the top; per subtree supernode, its updates of

@@ -24,6 +24,8 @@ class WorkerPool {
 
   /// Threads a task runs on (≥ 1).
   int threads() const { return static_cast<int>(m_workers.size()) + 1; }
+  /// Tasks run so far on more than the calling thread (none when there are no workers).
+  long dispatched() const { return m_generation.load(std::memory_order_acquire); }
 
   /// Calls task(t) for t = 0 .. threads() − 1, t = 0 on the calling thread, and returns when
   /// every call has. Calls must not throw. Not reentrant.

@@ -228,8 +228,11 @@ double dynamics_and_proximities(const WorldModel& model, WorldData& data, Worker
   collision::ClothContacts& contacts = data.contacts;
   double friction_seconds = 0.0;
   if (looked_ahead) {
+    // Nothing else runs now: the solves take this step's pool, whose workers are awake.
     contacts.proximities.swap(lookahead.proximities);
+    for (cloth::ClothState& state : data.cloths) cloth::lend_solver_pool(state, pool);
     friction_seconds = cloth_dynamics(model, data);
+    for (cloth::ClothState& state : data.cloths) cloth::lend_solver_pool(state, nullptr);
   } else {
     const std::vector<collision::CollisionMesh*>& meshes = mesh_list(data);
     const std::vector<const collision::CollisionMesh*> view(meshes.begin(), meshes.end());

@@ -308,6 +308,20 @@ TEST(SparseCholesky, SolvesOnThreadsAreBitwiseTheSameAsOnOne) {
       } else {
         EXPECT_EQ(full, one_full) << threads << " threads";
         EXPECT_EQ(split, one_split) << threads << " threads";
+        // On a lent pool of the analysed size, which the factorisation and the solves then
+        // run on, bitwise the same; one of another size is left for the factor's own threads.
+        for (const int lent_threads : {threads, threads + 1}) {
+          dexcloth::WorkerPool lent(lent_threads);
+          chol.lend_pool(&lent);
+          ASSERT_EQ(chol.factorize(u.value), -1);
+          std::vector<double> again = b;
+          chol.solve_in_place(again);
+          chol.lend_pool(nullptr);
+          EXPECT_EQ(again, one_full) << threads << " threads, lent " << lent_threads;
+          // The factorisation, the forward and the backward solve: a dispatch each.
+          EXPECT_EQ(lent.dispatched(), lent_threads == threads ? 3 : 0)
+              << threads << " threads, lent " << lent_threads;
+        }
       }
     }
   }

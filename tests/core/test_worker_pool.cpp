@@ -36,6 +36,7 @@ TEST(WorkerPool, RunsEachThreadIndexOnceAtEveryDispatch) {
       EXPECT_EQ(on_caller, 0);                      // task 0 runs on the calling thread
       if (round % 500 == 499) let_workers_sleep();  // after a pause too, not only back to back
     }
+    EXPECT_EQ(pool.dispatched(), threads > 1 ? 2000 : 0);  // the workers' dispatches
   }
 }
 
