@@ -59,15 +59,16 @@ TEST(WorkerPool, ForEachIndexCallsEveryIndexOnceOnUnevenWork) {
   WorkerPool pool(2);
   for (int round = 0; round < 50; ++round) {
     std::vector<std::atomic<int>> calls(97);
-    std::atomic<bool> first_done{false};
+    std::array<std::atomic<int>, 2> firsts{};  // first(t) once on each thread t
     dexcloth::for_each_index_after(
-        &pool, [&](int t) { first_done = first_done || t == 0; }, calls.size(),
+        &pool, [&](int t) { firsts[static_cast<std::size_t>(t)]++; }, calls.size(),
         [&](std::size_t k) {
           volatile double sink = 0.0;  // uneven work: index k takes ~k units
           for (std::size_t i = 0; i < 200 * k; ++i) sink = sink + static_cast<double>(i);
           calls[k]++;
         });
-    EXPECT_TRUE(first_done);
+    EXPECT_EQ(firsts[0], 1);
+    EXPECT_EQ(firsts[1], 1);
     for (std::size_t k = 0; k < calls.size(); ++k) EXPECT_EQ(calls[k], 1) << "index " << k;
   }
 }
