@@ -507,7 +507,13 @@ int begin_assembly(const ClothModel& model, ClothState& state, double h, const V
   return pieces;
 }
 
-void lend_solver_pool(ClothState& state, WorkerPool* pool) { state.scratch.get().lent_pool = pool; }
+void lend_solver_pool(ClothState& state, WorkerPool* pool) {
+  DynamicsWorkspace& ws = state.scratch.get();
+  ws.lent_pool = pool;
+  // The factors take their pool from each factorisation (factorise): none keeps one lent before.
+  ws.direct.cholesky.lend_pool(nullptr);
+  ws.schur.cholesky.lend_pool(nullptr);
+}
 
 void assemble_piece(const ClothModel& model, ClothState& state, int k) {
   DynamicsWorkspace& ws = state.scratch.get();
