@@ -76,10 +76,7 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
 }
 
 WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws) {
-  if (threads <= 1) return nullptr;
-  if (ws.lent_pool != nullptr && ws.lent_pool->threads() == threads) return ws.lent_pool;
-  if (!ws.pool || ws.pool->threads() != threads) ws.pool = std::make_unique<WorkerPool>(threads);
-  return ws.pool.get();
+  return lent_or_own(ws.lent_pool, ws.pool, threads);
 }
 
 DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d, WorkerPool* pool) {

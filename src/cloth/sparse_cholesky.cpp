@@ -130,7 +130,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   DEXCLOTH_DEMAND(threads >= 1);
   m_precision = precision;
   m_threads = threads;
-  if (m_own_pool && m_own_pool->threads() != threads) m_own_pool.reset();
   DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
   DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
   for (int j = 0; j < n; ++j)
@@ -396,12 +395,7 @@ void SparseCholesky::schedule(const std::vector<int>& sparent, const std::vector
   size_buffers();
 }
 
-WorkerPool* SparseCholesky::pool() const {
-  if (m_threads == 1) return nullptr;
-  if (m_lent_pool != nullptr && m_lent_pool->threads() == m_threads) return m_lent_pool;
-  if (!m_own_pool) m_own_pool = std::make_unique<WorkerPool>(m_threads);
-  return m_own_pool.get();
-}
+WorkerPool* SparseCholesky::pool() const { return lent_or_own(m_lent_pool, m_own_pool, m_threads); }
 
 template <class T>
 SparseCholesky::Numeric<T>& SparseCholesky::numeric() {

@@ -33,6 +33,13 @@ bool poll(Ready ready) {
 
 }  // namespace
 
+WorkerPool* lent_or_own(WorkerPool* lent, std::unique_ptr<WorkerPool>& own, int threads) {
+  if (threads <= 1) return nullptr;
+  if (lent != nullptr && lent->threads() == threads) return lent;
+  if (!own || own->threads() != threads) own = std::make_unique<WorkerPool>(threads);
+  return own.get();
+}
+
 WorkerPool::WorkerPool(int threads) {
   DEXCLOTH_DEMAND(threads >= 1);
   for (int t = 1; t < threads; ++t) m_workers.emplace_back([this, t] { work(t); });

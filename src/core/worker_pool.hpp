@@ -8,6 +8,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -47,6 +48,10 @@ class WorkerPool {
   std::atomic<int> m_running{0};      ///< workers still on the current task
   bool m_stop{};
 };
+
+/// The pool to run `threads` threads on: `lent` when it has that many, else `own` (made, or
+/// remade, with that many); null for one thread. For a caller that may be lent its caller's.
+WorkerPool* lent_or_own(WorkerPool* lent, std::unique_ptr<WorkerPool>& own, int threads);
 
 /// Calls first(t) on each of `pool`'s threads t (t = 0 the calling thread) and body(k) for
 /// k = 0 .. count − 1, each k on whichever thread is free (for pieces of uneven work): a thread
