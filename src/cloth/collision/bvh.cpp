@@ -68,9 +68,16 @@ void Bvh::build(const Triangles& faces, const Points& x0, const Points& x1, doub
 }
 
 void Bvh::refit(const Triangles& faces, const Points& x0, const Points& x1, double margin) {
-  DEXCLOTH_DEMAND(faces.rows() == m_num_faces);
+  refit(faces, x0, x1, margin, {});
+}
+
+void Bvh::refit(const Triangles& faces, const Points& x0, const Points& x1, double margin,
+                const std::vector<std::uint8_t>& touched) {
+  DEXCLOTH_DEMAND(faces.rows() == m_num_faces &&
+                  (touched.empty() || touched.size() == m_nodes.size()));
   // Children come after their parent, so a reverse sweep sees children first.
   for (std::size_t i = m_nodes.size(); i-- > 0;) {
+    if (!touched.empty() && touched[i] == 0) continue;
     Node& n = m_nodes[i];
     if (n.face >= 0) {
       face_box(n, faces, x0, x1, margin);
@@ -91,16 +98,20 @@ struct BvhTraversal {
   const std::vector<Bvh::Node>& nb;
   const Triangles* faces;  // set for a self query that skips adjacent faces
   std::vector<FacePair>& out;
-  const SelfSkip* skip{};  // of a self query: the pairs to leave out
+  const QuerySkip* skip{};  // the pairs to leave out
 
   // Whether `skip` leaves out the pairs within subtree i, or those between subtrees i and j.
-  static bool skips_self(const SelfSkip* skip, int i) {
+  static bool skips_self(const QuerySkip* skip, int i) {
     return skip != nullptr &&
            ((skip->subtrees != nullptr && (*skip->subtrees)[static_cast<std::size_t>(i)] != 0) ||
-            (skip->windows != nullptr && skip->windows->skips(i, i)));
+            (skip->windows != nullptr && skip->windows->skips(i, i)) ||
+            (skip->touched_a != nullptr && (*skip->touched_a)[static_cast<std::size_t>(i)] == 0));
   }
-  static bool skips_pair(const SelfSkip* skip, int i, int j) {
-    return skip != nullptr && skip->windows != nullptr && skip->windows->skips(i, j);
+  static bool skips_pair(const QuerySkip* skip, int i, int j) {
+    return skip != nullptr &&
+           ((skip->windows != nullptr && skip->windows->skips(i, j)) ||
+            (skip->touched_a != nullptr && (*skip->touched_a)[static_cast<std::size_t>(i)] == 0 &&
+             (*skip->touched_b)[static_cast<std::size_t>(j)] == 0));
   }
 
   static bool overlap(const Bvh::Node& p, const Bvh::Node& q) {
@@ -154,6 +165,23 @@ struct BvhTraversal {
   }
 };
 
+void touched_subtrees(const Bvh& bvh, const Triangles& faces,
+                      const std::vector<std::uint8_t>& vertices, std::vector<std::uint8_t>& out) {
+  DEXCLOTH_DEMAND(faces.rows() == bvh.num_faces());
+  out.assign(static_cast<std::size_t>(bvh.num_nodes()), 0);
+  // Children come after their parent, so a reverse sweep sees children first.
+  for (int i = bvh.num_nodes(); i-- > 0;) {
+    const int f = bvh.leaf_face(i);
+    const auto k = static_cast<std::size_t>(i);
+    if (f >= 0) {
+      for (int c = 0; c < 3; ++c)
+        if (vertices[static_cast<std::size_t>(faces(f, c))] != 0) out[k] = 1;
+    } else {
+      out[k] = out[k + 1] | out[static_cast<std::size_t>(bvh.right_child(i))];
+    }
+  }
+}
+
 void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out) {
   if (a.empty() || b.empty()) return;
   BvhTraversal t{a.m_nodes, b.m_nodes, nullptr, out, nullptr};
@@ -168,7 +196,7 @@ void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_ad
 }
 
 void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
-                 const SelfSkip* skip) {
+                 const QuerySkip* skip) {
   out.clear();
   if (a.empty() || b.empty()) return;
   out.push_back({0, 0, self});
@@ -219,7 +247,7 @@ void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<
 }
 
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out, const SelfSkip* skip) {
+                        std::vector<BvhQuery>& out, const QuerySkip* skip) {
   const bool threaded = pool != nullptr && pool->threads() > 1 &&
                         std::min(a.num_faces(), b.num_faces()) >= kParallelQueryFaces;
   split_query(a, b, self, threaded ? kPiecesPerThread * pool->threads() : 1, out, skip);
@@ -227,12 +255,15 @@ WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
 }
 
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out, const SelfSkip* skip) {
+               std::vector<FacePair>& out, const QuerySkip* skip) {
   if (a.empty() || b.empty()) return;
   DEXCLOTH_DEMAND(skip == nullptr ||
-                  (&a == &b &&
+                  (((skip->subtrees == nullptr && skip->windows == nullptr) || &a == &b) &&
                    (skip->subtrees == nullptr || skip->subtrees->size() == a.m_nodes.size()) &&
-                   (skip->windows == nullptr || skip->windows->num_nodes() == a.num_nodes())));
+                   (skip->windows == nullptr || skip->windows->num_nodes() == a.num_nodes()) &&
+                   (skip->touched_a == nullptr ||
+                    (skip->touched_b != nullptr && skip->touched_a->size() == a.m_nodes.size() &&
+                     skip->touched_b->size() == b.m_nodes.size()))));
   BvhTraversal t{a.m_nodes, b.m_nodes, faces, out, skip};
   if (query.self) {
     t.self(query.i);

@@ -22,12 +22,17 @@ inline constexpr int kParallelQueryFaces = 1000;
 
 class UnfoldedWindows;
 
-/// What a self query may leave out, the caller having shown that none of those pairs matters.
-struct SelfSkip {
-  /// Per node: the pairs within its subtree.
+/// What a query may leave out, the caller having shown that none of those pairs matters.
+struct QuerySkip {
+  /// Of a self query, per node: the pairs within its subtree.
   const std::vector<std::uint8_t>* subtrees{};
-  /// The pairs of nodes whose rest boxes fit together in a flagged window.
+  /// Of a self query: the pairs of nodes whose rest boxes fit together in a flagged window.
   const UnfoldedWindows* windows{};
+  /// Per node of the first tree and of the second (the same for a self query): whether its
+  /// subtree holds a face the query is about (touched_subtrees); the pairs of two subtrees
+  /// that hold none are left out. Null: every face.
+  const std::vector<std::uint8_t>* touched_a{};
+  const std::vector<std::uint8_t>* touched_b{};
 };
 
 /// A piece of an overlap query (split_query): the pairs between subtree `i` of the first tree
@@ -47,6 +52,10 @@ class Bvh {
   void build(const Triangles& faces, const Points& x0, const Points& x1, double margin);
   /// Recomputes every box for new positions, keeping the tree; `faces` must be the ones built.
   void refit(const Triangles& faces, const Points& x0, const Points& x1, double margin);
+  /// The same for the nodes flagged in `touched` (touched_subtrees; empty: every node) only,
+  /// the others' faces having kept their positions since the last refit.
+  void refit(const Triangles& faces, const Points& x0, const Points& x1, double margin,
+             const std::vector<std::uint8_t>& touched);
   /// Number of faces the tree was built over.
   int num_faces() const { return m_num_faces; }
   /// True when the tree holds no face.
@@ -72,17 +81,17 @@ class Bvh {
   /// split first, such that the pieces' outputs (run_query, given the same `skip`),
   /// concatenated in order, are the whole query's in its order. A skipped piece is not split.
   friend void split_query(const Bvh& a, const Bvh& b, bool self, int pieces,
-                          std::vector<BvhQuery>& out, const SelfSkip* skip);
+                          std::vector<BvhQuery>& out, const QuerySkip* skip);
   /// The same split for running on `pool` (null: one thread): into kPiecesPerThread pieces per
   /// thread when the query's smaller tree holds kParallelQueryFaces faces or more (waking the
   /// pool costs tens of µs), else one. Returns the pool to run the pieces on, or null.
   friend WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                                 std::vector<BvhQuery>& out, const SelfSkip* skip);
+                                 std::vector<BvhQuery>& out, const QuerySkip* skip);
   /// Appends the pairs of one piece of a query to `out` (skipping faces adjacent in `faces`
-  /// when it is not null, as self_overlapping_faces with skip_adjacent). With `skip` (a self
-  /// query only), the pairs it names are left out.
+  /// when it is not null, as self_overlapping_faces with skip_adjacent). With `skip`, the pairs
+  /// it names are left out.
   friend void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-                        std::vector<FacePair>& out, const SelfSkip* skip);
+                        std::vector<FacePair>& out, const QuerySkip* skip);
 
  private:
   struct Node {
@@ -102,14 +111,19 @@ class Bvh {
   friend struct BvhTraversal;
 };
 
+/// Per node of `bvh` (built over `faces`) into `out`: 1 where its subtree holds a face with a
+/// vertex flagged (nonzero) in `vertices`, else 0; for QuerySkip's touched_a and touched_b.
+void touched_subtrees(const Bvh& bvh, const Triangles& faces,
+                      const std::vector<std::uint8_t>& vertices, std::vector<std::uint8_t>& out);
+
 void overlapping_faces(const Bvh& a, const Bvh& b, std::vector<FacePair>& out);
 void self_overlapping_faces(const Bvh& bvh, const Triangles& faces, bool skip_adjacent,
                             std::vector<FacePair>& out);
 void split_query(const Bvh& a, const Bvh& b, bool self, int pieces, std::vector<BvhQuery>& out,
-                 const SelfSkip* skip = nullptr);
+                 const QuerySkip* skip = nullptr);
 WorkerPool* split_query(const Bvh& a, const Bvh& b, bool self, WorkerPool* pool,
-                        std::vector<BvhQuery>& out, const SelfSkip* skip = nullptr);
+                        std::vector<BvhQuery>& out, const QuerySkip* skip = nullptr);
 void run_query(const Bvh& a, const Bvh& b, const BvhQuery& query, const Triangles* faces,
-               std::vector<FacePair>& out, const SelfSkip* skip = nullptr);
+               std::vector<FacePair>& out, const QuerySkip* skip = nullptr);
 
 }  // namespace dexcloth::collision

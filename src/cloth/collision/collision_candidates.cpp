@@ -98,7 +98,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   m_unfolded.resize(nm);
   m_windows.resize(nm);
   m_mean_edge.resize(nm);
-  m_skip.assign(nm, SelfSkip{});
+  m_skip.assign(nm, QuerySkip{});
   for (std::size_t m = 0; m < nm; ++m) {
     const CollisionMesh& mesh = *meshes[m];
     if (mesh.obstacle || !mesh.self_collision || mesh.rest.rows() == 0) continue;
@@ -126,7 +126,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     } else {
       unfolded.update(m_bvh[m], mesh.x0, m_rest_distance, 2.0 * margin, m_pool);
     }
-    m_skip[m] = SelfSkip{&unfolded.flags(), nullptr};
+    m_skip[m] = QuerySkip{&unfolded.flags(), nullptr, nullptr, nullptr};
     if (unfolded.flags()[0] != 0) continue;  // the whole cloth is left out: no window is asked
     if (swept) {
       windows.update_swept(mesh.x0, mesh.x1, unfolded.separation(mesh.faces, m_topology[m]),
@@ -141,32 +141,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   m_vertex_boxes.resize(nm);
   m_edge_boxes.resize(nm);
   m_face_boxes.resize(nm);
-  for (std::size_t m = 0; m < nm; ++m) {
-    const CollisionMesh& mesh = *meshes[m];
-    const Points& x1 = swept ? mesh.x1 : mesh.x0;
-    const double inflate = inflation(m);
-    std::vector<PrimitiveBox>& vb = m_vertex_boxes[m];
-    vb.resize(static_cast<std::size_t>(mesh.x0.rows()));
-    for (Eigen::Index v = 0; v < mesh.x0.rows(); ++v) {
-      PrimitiveBox& b = vb[static_cast<std::size_t>(v)];
-      for (int d = 0; d < 3; ++d) {
-        b.lo[d] = std::min(mesh.x0(v, d), x1(v, d)) - inflate;
-        b.hi[d] = std::max(mesh.x0(v, d), x1(v, d)) + inflate;
-      }
-    }
-    const std::vector<std::array<int, 2>>& edges = m_topology[m].edges;
-    std::vector<PrimitiveBox>& eb = m_edge_boxes[m];
-    eb.resize(edges.size());
-    for (std::size_t e = 0; e < edges.size(); ++e)
-      eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])],
-                    vb[static_cast<std::size_t>(edges[e][1])]);
-    std::vector<PrimitiveBox>& fb = m_face_boxes[m];
-    fb.resize(static_cast<std::size_t>(mesh.faces.rows()));
-    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
-      fb[static_cast<std::size_t>(f)] = merge(merge(vb[static_cast<std::size_t>(mesh.faces(f, 0))],
-                                                    vb[static_cast<std::size_t>(mesh.faces(f, 1))]),
-                                              vb[static_cast<std::size_t>(mesh.faces(f, 2))]);
-  }
+  for (std::size_t m = 0; m < nm; ++m) primitive_boxes(*meshes[m], m, swept, inflation(m));
   // Primitive pairs of every relevant mesh pair.
   m_vf.clear();
   m_ee.clear();
@@ -174,9 +149,86 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
     for (std::size_t b = a; b < nm; ++b) {
       if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
       if (a == b && !meshes[a]->self_collision) continue;
-      collect(meshes, static_cast<int>(a), static_cast<int>(b));
+      collect(meshes, static_cast<int>(a), static_cast<int>(b), false);
     }
   }
+  m_swept_margin = swept && obstacle_margin == margin ? margin : -1.0;
+}
+
+void CollisionCandidates::update_moved(const std::vector<const CollisionMesh*>& meshes,
+                                       double margin,
+                                       const std::vector<std::vector<std::uint8_t>>& moved) {
+  const std::size_t nm = meshes.size();
+  bool same = m_swept_margin == margin && m_topology.size() == nm && moved.size() == nm;
+  for (std::size_t m = 0; same && m < nm; ++m) {
+    const CollisionMesh& mesh = *meshes[m];
+    same = m_topology[m].num_vertices == mesh.x0.rows() &&
+           m_topology[m].face_edges.size() == static_cast<std::size_t>(mesh.faces.rows()) &&
+           m_bvh[m].num_faces() == mesh.faces.rows() &&
+           (moved[m].empty() || moved[m].size() == static_cast<std::size_t>(mesh.x0.rows()));
+  }
+  if (!same) {
+    update(meshes, true, margin);
+    return;
+  }
+  // Only the meshes with a moved vertex changed: their trees and boxes again, and which of
+  // their subtrees hold a face with a moved vertex.
+  m_touched.resize(nm);
+  std::vector<std::uint8_t> any(nm, 0);
+  for (std::size_t m = 0; m < nm; ++m) {
+    const CollisionMesh& mesh = *meshes[m];
+    any[m] = std::any_of(moved[m].begin(), moved[m].end(), [](std::uint8_t f) { return f != 0; });
+    if (any[m] == 0) {
+      m_touched[m].assign(static_cast<std::size_t>(m_bvh[m].num_nodes()), 0);
+      continue;
+    }
+    touched_subtrees(m_bvh[m], mesh.faces, moved[m], m_touched[m]);
+    m_bvh[m].refit(mesh.faces, mesh.x0, mesh.x1, margin, m_touched[m]);
+    primitive_boxes(mesh, m, true, margin, &moved[m]);
+  }
+  m_skip.assign(nm, QuerySkip{});
+  m_vf.clear();
+  m_ee.clear();
+  for (std::size_t a = 0; a < nm; ++a) {
+    for (std::size_t b = a; b < nm; ++b) {
+      if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
+      if (a == b && !meshes[a]->self_collision) continue;
+      if (any[a] == 0 && any[b] == 0) continue;
+      collect(meshes, static_cast<int>(a), static_cast<int>(b), true);
+    }
+  }
+}
+
+void CollisionCandidates::primitive_boxes(const CollisionMesh& mesh, std::size_t m, bool swept,
+                                          double inflate, const std::vector<std::uint8_t>* moved) {
+  const auto changed = [moved](int v) {
+    return moved == nullptr || (*moved)[static_cast<std::size_t>(v)] != 0;
+  };
+  const Points& x1 = swept ? mesh.x1 : mesh.x0;
+  std::vector<PrimitiveBox>& vb = m_vertex_boxes[m];
+  vb.resize(static_cast<std::size_t>(mesh.x0.rows()));
+  for (int v = 0; v < static_cast<int>(mesh.x0.rows()); ++v) {
+    if (!changed(v)) continue;
+    PrimitiveBox& b = vb[static_cast<std::size_t>(v)];
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(mesh.x0(v, d), x1(v, d)) - inflate;
+      b.hi[d] = std::max(mesh.x0(v, d), x1(v, d)) + inflate;
+    }
+  }
+  const std::vector<std::array<int, 2>>& edges = m_topology[m].edges;
+  std::vector<PrimitiveBox>& eb = m_edge_boxes[m];
+  eb.resize(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (changed(edges[e][0]) || changed(edges[e][1]))
+      eb[e] = merge(vb[static_cast<std::size_t>(edges[e][0])],
+                    vb[static_cast<std::size_t>(edges[e][1])]);
+  std::vector<PrimitiveBox>& fb = m_face_boxes[m];
+  fb.resize(static_cast<std::size_t>(mesh.faces.rows()));
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    if (changed(mesh.faces(f, 0)) || changed(mesh.faces(f, 1)) || changed(mesh.faces(f, 2)))
+      fb[static_cast<std::size_t>(f)] = merge(merge(vb[static_cast<std::size_t>(mesh.faces(f, 0))],
+                                                    vb[static_cast<std::size_t>(mesh.faces(f, 1))]),
+                                              vb[static_cast<std::size_t>(mesh.faces(f, 2))]);
 }
 
 void CollisionCandidates::share_fits(CollisionCandidates& other) {
@@ -196,7 +248,8 @@ const RestNeighbours* CollisionCandidates::rest_neighbours(int m) const {
   return m_rest_distance > 0.0 && r.distance() == m_rest_distance ? &r : nullptr;
 }
 
-void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb) {
+void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb,
+                                  bool touched) {
   const Bvh& ta = m_bvh[static_cast<std::size_t>(ma)];
   const Bvh& tb = m_bvh[static_cast<std::size_t>(mb)];
   const bool self = ma == mb;
@@ -205,7 +258,12 @@ void CollisionCandidates::collect(const std::vector<const CollisionMesh*>& meshe
   // (the order of the whole query, whichever thread ran a piece). The pieces' work is far from
   // even (a sheet's self query is mostly within halves, little between them: handed out
   // round-robin, one of two threads did three quarters of pinch_move's).
-  const SelfSkip* skip = self ? &m_skip[static_cast<std::size_t>(ma)] : nullptr;
+  QuerySkip query_skip = self ? m_skip[static_cast<std::size_t>(ma)] : QuerySkip{};
+  if (touched) {
+    query_skip.touched_a = &m_touched[static_cast<std::size_t>(ma)];
+    query_skip.touched_b = &m_touched[static_cast<std::size_t>(mb)];
+  }
+  const QuerySkip* skip = self || touched ? &query_skip : nullptr;
   WorkerPool* pool = split_query(ta, tb, self, m_pool, m_queries, skip);
   const std::size_t pieces = m_queries.size();
   if (m_piece_pairs.size() < pieces) {

@@ -59,6 +59,15 @@ class CollisionCandidates {
   /// pairs with cloth within margin + obstacle_margin are found.
   void update(const std::vector<const CollisionMesh*>& meshes, bool swept, double margin,
               double obstacle_margin);
+  /// The swept update again after some cloth vertices moved their x1, for the impact zones'
+  /// next round: `moved` holds per mesh, per vertex, a nonzero flag where x1 changed since the
+  /// last update, which was `update(meshes, true, margin)` of the same meshes (an empty list:
+  /// none moved). Collects the pairs update would, among the face pairs with a flagged vertex
+  /// only (no subtree or window is left out); a pair of unflagged faces, unchanged, is left to
+  /// what the last update found of it. Meshes that differ in size from the last update's get a
+  /// whole update instead.
+  void update_moved(const std::vector<const CollisionMesh*>& meshes, double margin,
+                    const std::vector<std::vector<std::uint8_t>>& moved);
   /// Forces a rebuild of trees and topology on the next `update` (after remeshing).
   void reset() { m_topology.clear(); }
   /// Runs the pair searches on `pool`'s threads (null: the calling thread only). The pairs found,
@@ -95,7 +104,13 @@ class CollisionCandidates {
   }
 
  private:
-  void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb);
+  /// The boxes of mesh m's vertices, edges and faces (x0, and x1 when `swept`), inflated; with
+  /// `moved` (per vertex; null: all), of the moved vertices and their edges and faces only.
+  void primitive_boxes(const CollisionMesh& mesh, std::size_t m, bool swept, double inflate,
+                       const std::vector<std::uint8_t>* moved = nullptr);
+  /// Appends the pairs of meshes ma and mb (with `touched`, of face pairs touching a vertex
+  /// update_moved flagged only).
+  void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb, bool touched);
   /// Appends the vertex–face and edge–edge pairs of `face_pairs` (of meshes ma, mb).
   void primitive_pairs(const std::vector<const CollisionMesh*>& meshes, int ma, int mb,
                        const std::vector<FacePair>& face_pairs, std::vector<VertexFacePair>& vf,
@@ -113,7 +128,9 @@ class CollisionCandidates {
   std::shared_ptr<std::vector<std::unique_ptr<UnfoldedSubtrees::KeptFits>>> m_kept_fits;
   std::vector<std::array<UnfoldedWindows, 2>> m_windows;  // per mesh: proximity, swept
   std::vector<double> m_mean_edge;  // per mesh: of its rest plane, when its subtrees were built
-  std::vector<SelfSkip> m_skip;     // per mesh: what its self query leaves out
+  std::vector<QuerySkip> m_skip;    // per mesh: what its self query leaves out
+  std::vector<std::vector<std::uint8_t>> m_touched;  // of update_moved: per mesh, per node
+  double m_swept_margin{-1.0};      // margin of the last update, if swept (else −1)
   std::vector<BvhQuery> m_queries;  // pieces of a face-pair query
   // Each piece's face pairs and their primitive pairs.
   std::vector<std::vector<FacePair>> m_piece_pairs;

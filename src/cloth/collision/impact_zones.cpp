@@ -144,9 +144,17 @@ int ImpactZoneSolver::find_root(int gid) {
 }
 
 int ImpactZoneSolver::find_impacts(const std::vector<CollisionMesh*>& meshes,
-                                   const ImpactZoneOptions& options) {
+                                   const ImpactZoneOptions& options, bool moved_only) {
   m_view.assign(meshes.begin(), meshes.end());
-  m_candidates.update(m_view, true, options.ccd_tolerance);
+  // After a round, a pair none of whose vertices the round moved has the motion (and the
+  // masses) it had in that round's test: no impact then (or one whose zone moved its
+  // vertices), none now. The search skips such pairs; the impacts found, and their order,
+  // are those of a search over all pairs.
+  if (moved_only) {
+    m_candidates.update_moved(m_view, options.ccd_tolerance, m_moved);
+  } else {
+    m_candidates.update(m_view, true, options.ccd_tolerance);
+  }
   const std::size_t before = m_impacts.size();
 
   // Cloth skimming a flat part of an obstacle within the CCD tolerance of its plane meets it at
@@ -424,7 +432,7 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
     const std::size_t first_new = m_impacts.size();
     m_count_fixed = iter == 0;
     m_fixed_impacts = 0;
-    const int found = find_impacts(meshes, options);
+    const int found = find_impacts(meshes, options, iter > 0);
     if (m_fixed_impacts > 0) {
       fixed_collisions = true;
       report.warnings.push_back("impact zones: " + std::to_string(m_fixed_impacts) +
@@ -456,6 +464,9 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
       }
     }
     // Group every impact by zone; respond in each zone that got a new impact.
+    m_moved.resize(meshes.size());
+    for (std::size_t m = 0; m < meshes.size(); ++m)
+      m_moved[m].assign(static_cast<std::size_t>(meshes[m]->x0.rows()), 0);
     m_by_root.clear();
     for (std::size_t i = 0; i < m_impacts.size(); ++i) {
       for (const Corner& c : m_impacts[i].corner) {
@@ -517,6 +528,11 @@ ImpactZoneReport ImpactZoneSolver::resolve(const std::vector<CollisionMesh*>& me
         next = 2;
         report.warnings.push_back("impact zones: zone of " + size +
                                   " vertices kept at its start-of-step positions");
+      }
+      for (const int g : m_zone_members) {
+        const auto m = static_cast<std::size_t>(
+            std::upper_bound(m_offset.begin(), m_offset.end(), g) - m_offset.begin() - 1);
+        m_moved[m][static_cast<std::size_t>(g - m_offset[m])] = 1;
       }
       if (next > 0) {
         ++report.rigid_zones;

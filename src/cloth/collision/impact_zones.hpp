@@ -80,7 +80,10 @@ class ImpactZoneSolver {
     double lambda{};
   };
 
-  int find_impacts(const std::vector<CollisionMesh*>& meshes, const ImpactZoneOptions& options);
+  /// Tests the candidate pairs for new impacts: all of them, or with `moved_only` those with a
+  /// face touching a vertex the last round moved (m_moved; the others move as they did then).
+  int find_impacts(const std::vector<CollisionMesh*>& meshes, const ImpactZoneOptions& options,
+                   bool moved_only);
   /// Turns `impact`'s normal to point out of the obstacle when its cloth primitive starts inside
   /// the obstacle, less than `offset` from it (see the definition); true when it did.
   bool orient_outward(const std::vector<CollisionMesh*>& meshes, bool edge_edge,
@@ -114,6 +117,8 @@ class ImpactZoneSolver {
   std::vector<int> m_zone_impacts;
   std::vector<int> m_zone_members;
   std::vector<Vec3> m_zone_x1;  // the members' x1 before a projection
+  // Per mesh, per vertex: moved by this round's responses (the zones' members).
+  std::vector<std::vector<std::uint8_t>> m_moved;
   bool m_count_fixed{};         // test pairs whose corners are all fixed (first round only)
   int m_fixed_impacts{};        // such pairs found colliding
   int m_released{};             // friction-held vertices let go this resolve

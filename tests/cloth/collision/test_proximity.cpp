@@ -425,6 +425,94 @@ TEST(CollisionCandidates, OnAPoolTheCandidatesAreTheSameInTheSameOrder) {
   }
 }
 
+TEST(CollisionCandidates, AfterSomeVerticesMovedTheirPairsAreFoundInTheWholeSearchsOrder) {
+  // The folded, crumpled 3,200-face sheet falling onto a sphere again (swept, as the impact
+  // zones search): a patch of vertices then changes its x1. update_moved must find every pair
+  // of a whole search at the new positions that has a moved corner, in that search's order,
+  // with nothing the whole search would not find, and leave out most of the rest.
+  CollisionMesh sheet = make_sheet(40, 40, 0.2, 0.2, Vec3(-0.1, -0.1, 0.0), 1e-4);
+  sheet.rest = sheet.x0;
+  std::uint32_t state = 7u;
+  const auto noise = [&] {
+    state = state * 1664525u + 1013904223u;
+    return 1e-3 * (static_cast<double>(state >> 8) / 16777216.0 - 0.5);
+  };
+  for (int v = 0; v < sheet.x0.rows(); ++v) {
+    if (sheet.x0(v, 0) > 0.0) {
+      sheet.x0(v, 0) = -sheet.x0(v, 0);
+      sheet.x0(v, 2) = 4e-3;
+    }
+    for (int k = 0; k < 3; ++k) sheet.x0(v, k) += noise();
+  }
+  sheet.x1 = sheet.x0;
+  for (int v = 0; v < sheet.x1.rows(); ++v) sheet.x1(v, 2) -= 2e-3 + noise();
+  const CollisionMesh sphere = make_sphere(Vec3(0, 0, -0.05), 0.052, 12, 24);
+  const std::vector<const CollisionMesh*> meshes{&sheet, &sphere};
+  constexpr double kMargin = 1e-6;
+  const Points start = sheet.x1;
+
+  for (const int threads : {1, 2}) {
+    sheet.x1 = start;
+    WorkerPool pool(threads);
+    CollisionCandidates candidates;
+    if (threads > 1) candidates.set_pool(&pool);
+    candidates.update(meshes, true, kMargin);
+    // The patch within 3 cm of a point of the fold's upper layer moves down by up to 3 mm.
+    std::vector<std::vector<std::uint8_t>> moved{
+        std::vector<std::uint8_t>(static_cast<std::size_t>(sheet.x0.rows()), 0), {}};
+    int count = 0;
+    for (int v = 0; v < sheet.x0.rows(); ++v) {
+      if (std::hypot(sheet.x0(v, 0) + 0.05, sheet.x0(v, 1)) > 0.03) continue;
+      sheet.x1(v, 2) -= 1.5e-3 + 3.0 * noise();
+      moved[0][static_cast<std::size_t>(v)] = 1;
+      ++count;
+    }
+    ASSERT_GT(count, 50);
+    candidates.update_moved(meshes, kMargin, moved);
+    // The whole search at the new positions, nothing left out (no rest shape).
+    CollisionMesh plain = sheet;
+    plain.rest.resize(0, 3);
+    CollisionCandidates whole;
+    whole.update({&plain, &sphere}, true, kMargin);
+
+    const auto moves = [&](int mesh, int v) {
+      return mesh == 0 && moved[0][static_cast<std::size_t>(v)] != 0;
+    };
+    const auto check = [&](const auto& found, const auto& all, auto touches, const char* kind) {
+      std::size_t k = 0, touching = 0, missing = 0;
+      for (const auto& pair : all) {
+        const bool here = k < found.size() && std::memcmp(&found[k], &pair, sizeof pair) == 0;
+        if (here) ++k;
+        if (touches(pair)) {
+          ++touching;
+          if (!here) ++missing;
+        }
+      }
+      EXPECT_EQ(missing, 0u) << kind << ": pairs with a moved corner missing";
+      EXPECT_EQ(k, found.size()) << kind << ": pairs out of order or not in the whole search";
+      EXPECT_GT(touching, 20u) << kind;
+      EXPECT_LT(found.size(), all.size() / 2) << kind << ": most pairs should be left out";
+    };
+    check(
+        candidates.vertex_face(), whole.vertex_face(),
+        [&](const VertexFacePair& p) {
+          const CollisionMesh& f = *meshes[static_cast<std::size_t>(p.face_mesh)];
+          return moves(p.vertex_mesh, p.vertex) || moves(p.face_mesh, f.faces(p.face, 0)) ||
+                 moves(p.face_mesh, f.faces(p.face, 1)) || moves(p.face_mesh, f.faces(p.face, 2));
+        },
+        "vertex-face");
+    check(
+        candidates.edge_edge(), whole.edge_edge(),
+        [&](const EdgeEdgePair& p) {
+          const auto& a = candidates.topology(p.mesh_a).edges[static_cast<std::size_t>(p.edge_a)];
+          const auto& b = candidates.topology(p.mesh_b).edges[static_cast<std::size_t>(p.edge_b)];
+          return moves(p.mesh_a, a[0]) || moves(p.mesh_a, a[1]) || moves(p.mesh_b, b[0]) ||
+                 moves(p.mesh_b, b[1]);
+        },
+        "edge-edge");
+  }
+}
+
 TEST(Proximity, ASurfaceBuriedInAnotherShapeOfTheBodyGivesNoPair) {
   // A body of two shapes: a slab whose top is at z = 0 and a 10 mm pad box on it, sunk 3 mm
   // into it and standing 1 mm out. Under the pad, the slab's top is buried in the pad, and the

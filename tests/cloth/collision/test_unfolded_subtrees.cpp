@@ -403,7 +403,7 @@ TEST(Bvh, ASkippedNodeLeavesOutThePairsWithinItsSubtreeOnly) {
   }
   std::vector<std::uint8_t> skip(static_cast<std::size_t>(bvh.num_nodes()), 0);
   skip[1] = 1;
-  const SelfSkip self_skip{&skip, nullptr};
+  const QuerySkip self_skip{&skip, nullptr, nullptr, nullptr};
   std::vector<FacePair> expected;
   for (const FacePair& p : all)
     if (!(under[static_cast<std::size_t>(p.a)] && under[static_cast<std::size_t>(p.b)]))

@@ -36,7 +36,7 @@ struct Culling {
     windows.update(m.x0, kRestDistance - 2.0 * subtrees.flatness(), kReach);
   }
   /// The face pairs of the self query, leaving out what `skip` says.
-  std::vector<FacePair> pairs(const SelfSkip& skip, int pieces = 1) const {
+  std::vector<FacePair> pairs(const QuerySkip& skip, int pieces = 1) const {
     std::vector<BvhQuery> queries;
     split_query(bvh, bvh, true, pieces, queries, &skip);
     std::vector<FacePair> out;
@@ -101,8 +101,9 @@ TEST(UnfoldedWindows, AWavySheetIsUnfoldedInEveryWindowThoughNotInItsBiggerSubtr
     big_flagged += c.bvh.subtree_faces(i) > 32 && c.subtrees.flags()[static_cast<std::size_t>(i)];
   EXPECT_EQ(big_flagged, 0);
   // The windows leave out most of the face pairs the subtrees leave in.
-  const std::size_t subtrees_only = c.pairs({&c.subtrees.flags(), nullptr}).size();
-  const std::size_t both = c.pairs({&c.subtrees.flags(), &c.windows}).size();
+  const std::size_t subtrees_only =
+      c.pairs({&c.subtrees.flags(), nullptr, nullptr, nullptr}).size();
+  const std::size_t both = c.pairs({&c.subtrees.flags(), &c.windows, nullptr, nullptr}).size();
   EXPECT_GT(subtrees_only, 10000u);
   EXPECT_LT(both, subtrees_only / 4);
   // Folded to a U within a window (its right part laid back 3 mm above the left), the windows
@@ -310,7 +311,7 @@ TEST(Bvh, AFlaggedWindowLeavesOutThePairsOfNodesWithinItOnly) {
       expected.push_back(p);
   ASSERT_LT(expected.size(), all.size() / 2);
   for (const int pieces : {1, 7, 64}) {
-    const std::vector<FacePair> found = c.pairs({nullptr, &c.windows}, pieces);
+    const std::vector<FacePair> found = c.pairs({nullptr, &c.windows, nullptr, nullptr}, pieces);
     ASSERT_EQ(found.size(), expected.size()) << pieces << " pieces";
     for (std::size_t k = 0; k < found.size(); ++k) {
       EXPECT_EQ(found[k].a, expected[k].a);
