@@ -172,12 +172,9 @@ int WorldImpl::register_skeleton(dd::SkeletonPtr skel, std::string file) {
     d->setSpringStiffness(0.0);
     d->setDampingCoefficient(0.0);
   }
-  rec.pd_matrix.resize(n, n);
+  rec.pd_applied.resize(n);
   rec.pd_rhs.resize(n);
   rec.pd_qdd.resize(n);
-  // Sized by a first factorisation, which also sets its status: Eigen's LLT leaves that
-  // uninitialised until then, and moving the record read it (UBSan: invalid enum load).
-  rec.pd_llt.compute(Eigen::MatrixXd::Identity(n, n));
   skeletons.push_back(std::move(rec));
   world->addSkeleton(skel);
   DEXCLOTH_DEMAND(world->getSkeleton(skeletons.back().name) == skel);
@@ -189,16 +186,29 @@ int WorldImpl::body_index(const dd::BodyNode* node) const {
   return it == body_of_node.end() ? -1 : it->second;
 }
 
+namespace {
+
+/// Sets the joint damping coefficients of `skel` to `kd` (per DOF), or with `on` false to zero.
+/// DART does not recompute its articulated inertias (which hold h·kd) for such a change by
+/// itself.
+void set_dampers(dd::Skeleton& skel, const Eigen::VectorXd& kd, bool on) {
+  for (std::size_t i = 0; i < skel.getNumDofs(); ++i)
+    skel.getDof(i)->setDampingCoefficient(on ? kd[static_cast<Eigen::Index>(i)] : 0.0);
+  for (std::size_t t = 0; t < skel.getNumTrees(); ++t) skel.dirtyArticulatedInertia(t);
+}
+
+}  // namespace
+
 void WorldImpl::apply_stable_pd() {
-  // Stable PD (Tan, Liu, Turk 2011) with the skeleton's mass matrix, as explicit torques:
+  // Stable PD (Tan, Liu, Turk 2011) with the skeleton's full dynamics, as explicit torques:
   //   τ = −Kp (q + h q̇ − q*) − Kd (q̇ + h q̈),  (M + h Kd) q̈ = τ_a + P − c(q, q̇) + τ_c,
   // P = −Kp (q + h q̇ − q*) − Kd q̇, τ_a the forces added for this step, c Coriolis and gravity,
   // τ_c the constraint (contact, joint limit) forces of the last step. DART's implicit joint
-  // springs are not used: DART integrates them with M + h D + h² K but applies contact and limit
-  // impulses through M alone, so at rest a constraint force f leaves (h D + h² K) M⁻¹ f pushing the
-  // other joints (0.2 rad on a ring finger with one joint at its limit, fingertip contact forces
-  // attenuated by M (M + h D)⁻¹). Here the LCP sees the whole torque; with τ_c in the prediction,
-  // at rest q̈ = 0 and τ = −Kp (q − q*) exactly.
+  // springs and dampers are not used in its step: DART integrates them with M + h D + h² K
+  // but applies contact and limit impulses through M alone, so at rest a constraint force f
+  // leaves (h D + h² K) M⁻¹ f pushing the other joints (0.2 rad on a ring finger with one joint
+  // at its limit, fingertip contact forces attenuated by M (M + h D)⁻¹). Here the LCP sees the
+  // whole torque; with τ_c in the prediction, at rest q̈ = 0 and τ = −Kp (q − q*) exactly.
   const double h = world->getTimeStep();
   for (auto& rec : skeletons) {
     const bool active = (rec.pd_kp.array() > 0.0).any() || (rec.pd_kd.array() > 0.0).any();
@@ -209,12 +219,16 @@ void WorldImpl::apply_stable_pd() {
     // Explicit part at the predicted position.
     rec.pd_rhs = -rec.pd_kp.cwiseProduct(q + h * qd - rec.pd_target) - rec.pd_kd.cwiseProduct(qd);
     const Eigen::VectorXd& p = rec.pd_rhs;
-    // Predicted acceleration with the damping implicit.
-    rec.pd_matrix = skel.getMassMatrix();
-    rec.pd_matrix.diagonal() += h * rec.pd_kd;
-    rec.pd_llt.compute(rec.pd_matrix);
-    rec.pd_qdd = rec.pd_llt.solve(skel.getForces() + p - skel.getCoriolisAndGravityForces() + skel.getConstraintForces());
-    skel.setForces(skel.getForces() + p - h * rec.pd_kd.cwiseProduct(rec.pd_qdd));
+    // Predicted acceleration with the damping implicit, by DART's articulated-body pass with
+    // its joint dampers set to Kd for it alone: that pass solves (M + h D) q̈ = τ − D q̇ − c, so
+    // τ = τ_a + p + τ_c + Kd q̇ gives the prediction in O(n), without forming M.
+    rec.pd_applied = skel.getForces();
+    set_dampers(skel, rec.pd_kd, true);
+    skel.setForces(rec.pd_applied + p + skel.getConstraintForces() + rec.pd_kd.cwiseProduct(qd));
+    skel.computeForwardDynamics();
+    rec.pd_qdd = skel.getAccelerations();
+    set_dampers(skel, rec.pd_kd, false);
+    skel.setForces(rec.pd_applied + p - h * rec.pd_kd.cwiseProduct(rec.pd_qdd));
   }
 }
 

@@ -5,7 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include <Eigen/Cholesky>
+#include <Eigen/Core>
 
 #include <dart/collision/CollisionFilter.hpp>
 #include <dart/dynamics/BodyNode.hpp>
@@ -35,12 +35,11 @@ struct SkeletonRecord {
   std::vector<PoseKeyframe> motion;          ///< keyframed (kinematic) props
   /// Joint PD per DOF (set_joint_pd; URDF joint damping is the initial kd): stiffness
   /// [N·m/rad or N/m], damping [N·m·s/rad or N·s/m], target [rad or m]. Realised by
-  /// apply_stable_pd; DART's own joint springs and dampers stay at zero.
+  /// apply_stable_pd; DART's own joint springs stay at zero, its dampers too but for the
+  /// prediction apply_stable_pd makes through them.
   Eigen::VectorXd pd_kp, pd_kd, pd_target;
   /// Scratch of apply_stable_pd (sized once per skeleton).
-  Eigen::MatrixXd pd_matrix;
-  Eigen::VectorXd pd_rhs, pd_qdd;
-  Eigen::LLT<Eigen::MatrixXd> pd_llt;
+  Eigen::VectorXd pd_applied, pd_rhs, pd_qdd;
 };
 
 /// One pool patch.
