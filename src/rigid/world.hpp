@@ -137,7 +137,8 @@ class RigidWorld {
   /// Generalized forces accumulated for the next step.
   Eigen::VectorXd forces(SkeletonId s) const;
   /// Joint PD τ_i = −kp (q_i − q_target) − kd q̇_i, realised as a stable PD (Tan et al. 2011)
-  /// with the skeleton's mass matrix: stable for stiff gains on light links at any h, and an
+  /// with the skeleton's full dynamics (its mass matrix, implicitly through DART's
+  /// articulated-body pass): stable for stiff gains on light links at any h, and an
   /// explicit torque the contact/limit LCP sees, so at rest contact and limit forces balance
   /// exactly kp (q_i − q_target). Persists until changed. A URDF joint's <dynamics damping> is
   /// its initial kd. kp [N·m/rad or N/m], kd [N·m·s/rad or N·s/m].
