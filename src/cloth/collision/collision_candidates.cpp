@@ -142,16 +142,7 @@ void CollisionCandidates::update(const std::vector<const CollisionMesh*>& meshes
   m_edge_boxes.resize(nm);
   m_face_boxes.resize(nm);
   for (std::size_t m = 0; m < nm; ++m) primitive_boxes(*meshes[m], m, swept, inflation(m));
-  // Primitive pairs of every relevant mesh pair.
-  m_vf.clear();
-  m_ee.clear();
-  for (std::size_t a = 0; a < nm; ++a) {
-    for (std::size_t b = a; b < nm; ++b) {
-      if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
-      if (a == b && !meshes[a]->self_collision) continue;
-      collect(meshes, static_cast<int>(a), static_cast<int>(b), false);
-    }
-  }
+  collect_all(meshes, nullptr);
   m_swept_margin = swept && obstacle_margin == margin ? margin : -1.0;
 }
 
@@ -187,14 +178,19 @@ void CollisionCandidates::update_moved(const std::vector<const CollisionMesh*>& 
     primitive_boxes(mesh, m, true, margin, &moved[m]);
   }
   m_skip.assign(nm, QuerySkip{});
+  collect_all(meshes, &any);
+}
+
+void CollisionCandidates::collect_all(const std::vector<const CollisionMesh*>& meshes,
+                                      const std::vector<std::uint8_t>* moved_meshes) {
   m_vf.clear();
   m_ee.clear();
-  for (std::size_t a = 0; a < nm; ++a) {
-    for (std::size_t b = a; b < nm; ++b) {
+  for (std::size_t a = 0; a < meshes.size(); ++a) {
+    for (std::size_t b = a; b < meshes.size(); ++b) {
       if (meshes[a]->obstacle && meshes[b]->obstacle) continue;
       if (a == b && !meshes[a]->self_collision) continue;
-      if (any[a] == 0 && any[b] == 0) continue;
-      collect(meshes, static_cast<int>(a), static_cast<int>(b), true);
+      if (moved_meshes != nullptr && (*moved_meshes)[a] == 0 && (*moved_meshes)[b] == 0) continue;
+      collect(meshes, static_cast<int>(a), static_cast<int>(b), moved_meshes != nullptr);
     }
   }
 }

@@ -108,6 +108,12 @@ class CollisionCandidates {
   /// `moved` (per vertex; null: all), of the moved vertices and their edges and faces only.
   void primitive_boxes(const CollisionMesh& mesh, std::size_t m, bool swept, double inflate,
                        const std::vector<std::uint8_t>* moved = nullptr);
+  /// Collects the pairs of every mesh pair that may have some: within a self-colliding cloth,
+  /// between cloths, between cloth and bodies. With `moved_meshes` (per mesh, nonzero where
+  /// update_moved was given a moved vertex), only of the pairs of meshes with one, and of their
+  /// face pairs touching a moved vertex (m_touched).
+  void collect_all(const std::vector<const CollisionMesh*>& meshes,
+                   const std::vector<std::uint8_t>* moved_meshes);
   /// Appends the pairs of meshes ma and mb (with `touched`, of face pairs touching a vertex
   /// update_moved flagged only).
   void collect(const std::vector<const CollisionMesh*>& meshes, int ma, int mb, bool touched);

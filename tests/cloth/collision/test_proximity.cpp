@@ -26,6 +26,29 @@ std::vector<Proximity> proximities(const std::vector<const CollisionMesh*>& mesh
   return out;
 }
 
+// A 3,200-face, 0.2 m sheet folded over itself 4 mm apart (its right half back over the left),
+// crumpled by noise of 1 mm (a linear congruential sequence from `seed`) and moving down by
+// about 2 mm (x1); its rest shape is the flat sheet.
+CollisionMesh folded_crumpled_sheet(std::uint32_t seed) {
+  CollisionMesh sheet = make_sheet(40, 40, 0.2, 0.2, Vec3(-0.1, -0.1, 0.0), 1e-4);
+  sheet.rest = sheet.x0;
+  std::uint32_t state = seed;
+  const auto noise = [&] {
+    state = state * 1664525u + 1013904223u;
+    return 1e-3 * (static_cast<double>(state >> 8) / 16777216.0 - 0.5);
+  };
+  for (int v = 0; v < sheet.x0.rows(); ++v) {
+    if (sheet.x0(v, 0) > 0.0) {
+      sheet.x0(v, 0) = -sheet.x0(v, 0);
+      sheet.x0(v, 2) = 4e-3;
+    }
+    for (int k = 0; k < 3; ++k) sheet.x0(v, k) += noise();
+  }
+  sheet.x1 = sheet.x0;
+  for (int v = 0; v < sheet.x1.rows(); ++v) sheet.x1(v, 2) -= 2e-3 + noise();
+  return sheet;
+}
+
 }  // namespace
 
 TEST(Proximity, FlatSheetHasNoInPlaneSelfPairs) {
@@ -383,22 +406,7 @@ TEST(CollisionCandidates, OnAPoolTheCandidatesAreTheSameInTheSameOrder) {
   // A 3,200-face sheet folded over itself 4 mm apart, crumpled by seeded noise and moving, over
   // a sphere: the candidates (proximity search with rest neighbours left out, and swept for
   // continuous detection) found on a pool's threads must be one thread's, pair for pair.
-  CollisionMesh sheet = make_sheet(40, 40, 0.2, 0.2, Vec3(-0.1, -0.1, 0.0), 1e-4);
-  sheet.rest = sheet.x0;
-  std::uint32_t state = 99u;
-  const auto noise = [&] {
-    state = state * 1664525u + 1013904223u;
-    return 1e-3 * (static_cast<double>(state >> 8) / 16777216.0 - 0.5);
-  };
-  for (int v = 0; v < sheet.x0.rows(); ++v) {
-    if (sheet.x0(v, 0) > 0.0) {  // the right half folded back over the left
-      sheet.x0(v, 0) = -sheet.x0(v, 0);
-      sheet.x0(v, 2) = 4e-3;
-    }
-    for (int k = 0; k < 3; ++k) sheet.x0(v, k) += noise();
-  }
-  sheet.x1 = sheet.x0;
-  for (int v = 0; v < sheet.x1.rows(); ++v) sheet.x1(v, 2) -= 2e-3 + noise();
+  const CollisionMesh sheet = folded_crumpled_sheet(99u);
   const CollisionMesh sphere = make_sphere(Vec3(0, 0, -0.05), 0.052, 12, 24);
   const std::vector<const CollisionMesh*> meshes{&sheet, &sphere};
   const auto same = [](const auto& a, const auto& b) {
@@ -430,22 +438,12 @@ TEST(CollisionCandidates, AfterSomeVerticesMovedTheirPairsAreFoundInTheWholeSear
   // zones search): a patch of vertices then changes its x1. update_moved must find every pair
   // of a whole search at the new positions that has a moved corner, in that search's order,
   // with nothing the whole search would not find, and leave out most of the rest.
-  CollisionMesh sheet = make_sheet(40, 40, 0.2, 0.2, Vec3(-0.1, -0.1, 0.0), 1e-4);
-  sheet.rest = sheet.x0;
-  std::uint32_t state = 7u;
+  CollisionMesh sheet = folded_crumpled_sheet(7u);
+  std::uint32_t state = 3u;
   const auto noise = [&] {
     state = state * 1664525u + 1013904223u;
     return 1e-3 * (static_cast<double>(state >> 8) / 16777216.0 - 0.5);
   };
-  for (int v = 0; v < sheet.x0.rows(); ++v) {
-    if (sheet.x0(v, 0) > 0.0) {
-      sheet.x0(v, 0) = -sheet.x0(v, 0);
-      sheet.x0(v, 2) = 4e-3;
-    }
-    for (int k = 0; k < 3; ++k) sheet.x0(v, k) += noise();
-  }
-  sheet.x1 = sheet.x0;
-  for (int v = 0; v < sheet.x1.rows(); ++v) sheet.x1(v, 2) -= 2e-3 + noise();
   const CollisionMesh sphere = make_sphere(Vec3(0, 0, -0.05), 0.052, 12, 24);
   const std::vector<const CollisionMesh*> meshes{&sheet, &sphere};
   constexpr double kMargin = 1e-6;
