@@ -32,6 +32,9 @@ namespace {
 
 /// How far inside the cloth's repulsion layers the fingers of a pinch rest, in thicknesses.
 constexpr double kPinchMargin = 0.01;
+/// Two clusters pressed from opposite sides are two layers when a vertex of one lies over the
+/// other within this many thicknesses of its vertices' hull (join_facing_clusters).
+constexpr double kOverlapThicknesses = 0.5;
 
 /// The rigid surface points (at the rigid bodies' current poses) and normals touching the cloth
 /// vertices of one cluster, from their contact groups' heaviest records, into `out`. A
@@ -154,9 +157,9 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data) {
     touches.resize(clusters.size());
     for (std::size_t k = 0; k < clusters.size(); ++k)
       surface_touches(clusters[k], groups, cloth_meshes, h / substeps, allowance, data, touches[k]);
-    const std::vector<int> layers =
-        join_facing_clusters(clusters, touches, 4.0 * model.thickness + model.clusters.offset,
-                             model.clusters.distance);
+    const std::vector<int> layers = join_facing_clusters(
+        clusters, touches, data.patch_vertices, 4.0 * model.thickness + model.clusters.offset,
+        model.clusters.distance, kOverlapThicknesses * model.thickness);
     // The cloth keeps obstacles one repulsion thickness away on each side, so a patch as thick
     // as 2 × thickness makes a pinch close to where the repulsion of both jaws is just met;
     // thinner patches let the jaws in closer than the two repulsion layers, whose opposite

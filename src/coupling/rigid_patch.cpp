@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -56,6 +57,30 @@ bool joinable(const PatchVertex& a, const PatchVertex& b, const ClusterParams& p
 /// Cross product of (b − a) and (c − a) in 2-D.
 double cross2(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+/// Distance from `p` to segment [a, b] in 2-D.
+double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p) {
+  const Vec2 e = b - a;
+  const double len2 = e.squaredNorm();
+  const double s = len2 > 0.0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
+  return (a + s * e - p).norm();
+}
+
+/// Distance from `p` to the convex polygon `hull` (counter-clockwise, as convex_hull gives it;
+/// one or two points are a point or a segment): 0 inside.
+double hull_distance(const std::vector<Vec2>& hull, const Vec2& p) {
+  if (hull.empty()) return std::numeric_limits<double>::infinity();
+  if (hull.size() == 1) return (hull[0] - p).norm();
+  bool inside = hull.size() > 2;
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vec2& a = hull[i];
+    const Vec2& b = hull[(i + 1) % hull.size()];
+    inside = inside && cross2(a, b, p) >= 0.0;
+    d = std::min(d, segment_distance(a, b, p));
+  }
+  return inside ? 0.0 : d;
 }
 
 /// Convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
@@ -358,7 +383,8 @@ bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, do
 
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
                                       std::vector<std::vector<SurfaceTouch>>& touches,
-                                      double max_gap, double max_lateral) {
+                                      std::span<const PatchVertex> vertices, double max_gap,
+                                      double max_lateral, double overlap) {
   const int n = static_cast<int>(clusters.size());
   const double min_cosine = std::cos(kFacingDeg * std::numbers::pi / 180.0);
   // Mean surface point and normal of each cluster touched from one side only.
@@ -393,13 +419,32 @@ std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
     const double ahead = d.dot(normal[ua]);
     return ahead > 0.0 && ahead <= max_gap && (d - ahead * normal[ua]).norm() <= max_lateral;
   };
+  // Whether a vertex of cluster b lies over cluster a: projected along a's normal, within
+  // `overlap` of the convex hull of a's vertices.
+  const auto over = [&](int a, int b) {
+    const Vec3& m = normal[static_cast<std::size_t>(a)];
+    const Vec3 u = m.unitOrthogonal(), w = m.cross(u);
+    std::vector<Vec2> footprint;
+    for (int k : clusters[static_cast<std::size_t>(a)])
+      footprint.emplace_back(vertices[static_cast<std::size_t>(k)].x.dot(u),
+                             vertices[static_cast<std::size_t>(k)].x.dot(w));
+    const std::vector<Vec2> hull = convex_hull(std::move(footprint));
+    return std::any_of(clusters[static_cast<std::size_t>(b)].begin(),
+                       clusters[static_cast<std::size_t>(b)].end(), [&](int k) {
+                         const Vec3& x = vertices[static_cast<std::size_t>(k)].x;
+                         return hull_distance(hull, Vec2(x.dot(u), x.dot(w))) <= overlap;
+                       });
+  };
   DisjointSets sets(n);
+  std::vector<char> stacked(static_cast<std::size_t>(n), 0);
   bool any = false;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b)
       if (facing(a, b) && facing(b, a)) {
         sets.join(a, b);
         any = true;
+        if (over(a, b) || over(b, a))
+          stacked[static_cast<std::size_t>(a)] = stacked[static_cast<std::size_t>(b)] = 1;
       }
   std::vector<int> layers;
   if (!any) {
@@ -420,7 +465,10 @@ std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
     if (stacks[j].size() > 1) std::sort(members.begin(), members.end());
     clusters[j] = std::move(members);
     touches[j] = std::move(surfaces);
-    layers.push_back(stacks[j].size() > 1 ? 2 : 1);
+    const bool over_each_other = std::any_of(stacks[j].begin(), stacks[j].end(), [&](int c) {
+      return stacked[static_cast<std::size_t>(c)] != 0;
+    });
+    layers.push_back(over_each_other ? 2 : 1);
   }
   clusters.resize(stacks.size());
   touches.resize(stacks.size());

@@ -96,22 +96,29 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
 bool lay_on_support(RigidPatch& patch, std::span<const SurfaceTouch> touches, double thickness);
 
 /// Joins clusters of one cloth that are pressed from opposite sides into one stack (a fold or
-/// several layers of cloth between two fingers). `touches[c]` are the rigid surfaces touching
-/// cluster c. A cluster touched from one side only (at least 80 % of its surface normals within
-/// 20° of their mean m: a vertex or two at the cloth's edge may curl round the finger) joins
-/// another one-sided cluster whose mean normal is within 20° of −m when each faces the other: the
-/// other's mean surface point (over its touches along its m) lies ahead along m by at most
-/// `max_gap` [m] and within `max_lateral` [m] of its own across m. Each cluster is pressed by one
-/// finger only, so each patch alone would be a free light box the finger pushes aside; as one patch
-/// the stack is squeezed between both. Returns, per resulting cluster, the cloth layers it holds:
-/// 1 for a cluster left alone, 2 for a stack, however many clusters it joined (those pressed by
-/// one finger are pieces of one outer layer; a finger's pad and flank, or a crumple, split a
-/// layer into several, and counting them as layers made a 25 mm patch between pads 8 mm apart);
-/// `clusters` and `touches` are rewritten alike (a joined cluster's members sorted, its touches
-/// concatenated), in order of each stack's first cluster.
+/// several layers of cloth between two fingers, or a single layer crumpled into a step whose
+/// parts touch one finger each). `touches[c]` are the rigid surfaces touching cluster c, whose
+/// members index `vertices`. A cluster touched from one side only (at least 80 % of its surface
+/// normals within 20° of their mean m: a vertex or two at the cloth's edge may curl round the
+/// finger) joins another one-sided cluster whose mean normal is within 20° of −m when each faces
+/// the other: the other's mean surface point (over its touches along its m) lies ahead along m
+/// by at most `max_gap` [m] and within `max_lateral` [m] of its own across m. Each cluster is
+/// pressed by one finger only, so each patch alone would be a free light box the finger pushes
+/// aside; as one patch the stack is squeezed between both. Returns, per resulting cluster, the
+/// cloth layers it holds: 1 for a cluster left alone, 2 for a stack whose joined clusters lie
+/// over each other (a vertex of one, projected along the other's normal, within `overlap` [m]
+/// of the convex hull of the other's vertices), however many clusters it joined (those pressed
+/// by one finger are pieces of one outer layer; a finger's pad and flank, or a crumple, split a
+/// layer into several, and counting them as layers made a 25 mm patch between pads 8 mm apart),
+/// and 1 for a stack of clusters side by side: one layer stepped between the fingers, which
+/// they press flat (counted as two, a key pinch on a curtain's stepped edge held the pads a
+/// thickness apart until the step gave way under the pull, and the curtain slipped 8 mm while
+/// they closed); `clusters` and `touches` are rewritten alike (a joined cluster's members
+/// sorted, its touches concatenated), in order of each stack's first cluster.
 std::vector<int> join_facing_clusters(std::vector<std::vector<int>>& clusters,
                                       std::vector<std::vector<SurfaceTouch>>& touches,
-                                      double max_gap, double max_lateral);
+                                      std::span<const PatchVertex> vertices, double max_gap,
+                                      double max_lateral, double overlap);
 
 /// Minimum-area enclosing rectangle of 2-D points: its centre, unit axis u (v = u rotated by 90°)
 /// and full extents. Exposed for tests.

@@ -227,11 +227,21 @@ TEST(RigidPatch, APatchFittedMoreThanTwentyDegreesOffTheFingersIsStillTurnedToTh
   EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
 }
 
+/// Patch vertices at `points` (normal +z, 1 g, at rest).
+std::vector<PatchVertex> vertices_at(std::initializer_list<Vec3> points) {
+  std::vector<PatchVertex> v;
+  for (const Vec3& x : points) v.push_back({x, Vec3::Zero(), Vec3::UnitZ(), 1e-3});
+  return v;
+}
+
 TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
-  // Clusters 0 and 1: the two layers of a fold, pressed by the thumb from below (normal +z at
-  // z = −5 mm) and by the index from above (normal −z at z = +10 mm), side by side within 4 mm.
-  // Cluster 2: a layer pressed from below only, 60 mm away. Cluster 3: pressed from both sides
-  // already. Cluster 4: touches nothing rigid.
+  // Clusters 0 and 1: the two layers of a fold, 5 mm apart, pressed by the thumb from below
+  // (normal +z at z = −5 mm) and by the index from above (normal −z at z = +10 mm), one over the
+  // other. Cluster 2: a layer pressed from below only, 60 mm away. Cluster 3: pressed from both
+  // sides already. Cluster 4: touches nothing rigid.
+  const std::vector<PatchVertex> v = vertices_at(
+      {Vec3(0, 0, 0), Vec3(0.004, 0, 0), Vec3(0.001, 0.001, 0.005), Vec3(0.003, 0.004, 0.005),
+       Vec3(0.06, 0, 0.005), Vec3(0, 0.03, 0), Vec3(0.1, 0, 0)});
   std::vector<std::vector<int>> clusters{{0, 1}, {2, 3}, {4}, {5}, {6}};
   std::vector<std::vector<SurfaceTouch>> touches(5);
   touches[0] = {{Vec3(0, 0, -0.005), Vec3::UnitZ()}, {Vec3(0.004, 0, -0.005), Vec3::UnitZ()}};
@@ -239,7 +249,7 @@ TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
   touches[2] = {{Vec3(0.06, 0, 0.010), -Vec3::UnitZ()}};
   touches[3] = {{Vec3(0, 0.03, -0.005), Vec3::UnitZ()}, {Vec3(0, 0.03, 0.005), -Vec3::UnitZ()}};
   const std::vector<std::vector<SurfaceTouch>> original = touches;
-  const std::vector<int> layers = join_facing_clusters(clusters, touches, 0.023, 0.04);
+  const std::vector<int> layers = join_facing_clusters(clusters, touches, v, 0.023, 0.04, 0.0025);
   ASSERT_EQ(clusters.size(), 4u);
   ASSERT_EQ(touches.size(), 4u);
   EXPECT_EQ(touches[0].size(), 3u);  // the stack's touches: both fingers'
@@ -250,21 +260,47 @@ TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
   // Farther apart than max_gap (15 mm between the surfaces against 12 mm): not joined.
   std::vector<std::vector<int>> apart{{0, 1}, {2, 3}};
   std::vector<std::vector<SurfaceTouch>> two{original[0], original[1]};
-  const std::vector<int> single = join_facing_clusters(apart, two, 0.012, 0.04);
+  const std::vector<int> single = join_facing_clusters(apart, two, v, 0.012, 0.04, 0.0025);
   EXPECT_EQ(single, (std::vector<int>{1, 1}));
   // A layer split in two pieces under one finger, facing a layer under the other: one stack of
   // two layers, not three.
+  const std::vector<PatchVertex> p = vertices_at(
+      {Vec3(0, 0, 0), Vec3(0.008, 0, 0), Vec3(0.001, 0, 0.005)});
   std::vector<std::vector<int>> pieces{{0}, {1}, {2}};
   std::vector<std::vector<SurfaceTouch>> pressed{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
                                                  {{Vec3(0.008, 0, -0.005), Vec3::UnitZ()}},
                                                  {{Vec3(0.004, 0, 0.005), -Vec3::UnitZ()}}};
-  EXPECT_EQ(join_facing_clusters(pieces, pressed, 0.023, 0.04), std::vector<int>{2});
+  EXPECT_EQ(join_facing_clusters(pieces, pressed, p, 0.023, 0.04, 0.0025), std::vector<int>{2});
   EXPECT_EQ(pieces[0], (std::vector<int>{0, 1, 2}));
   // Two layers pressed from the same side are not a stack.
   std::vector<std::vector<int>> same{{0}, {1}};
   std::vector<std::vector<SurfaceTouch>> below{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
                                                {{Vec3(0, 0, 0.005), Vec3::UnitZ()}}};
-  EXPECT_EQ(join_facing_clusters(same, below, 0.023, 0.04), (std::vector<int>{1, 1}));
+  EXPECT_EQ(join_facing_clusters(same, below, v, 0.023, 0.04, 0.0025), (std::vector<int>{1, 1}));
+}
+
+TEST(RigidPatch, ALayerSteppedBetweenTwoFingersIsOneStackOfOneLayer) {
+  // One layer crumpled into a step: its part at z = 0 (x ≤ 9 mm) touches the index above, its
+  // part 6 mm lower (x ≥ 18 mm) the thumb below; side by side, neither over the other. Joined,
+  // so both fingers squeeze one box, but one layer thick: they press the step flat.
+  const std::vector<PatchVertex> v =
+      vertices_at({Vec3(0, 0, 0), Vec3(0.009, 0, 0), Vec3(0, 0.009, 0), Vec3(0.009, 0.009, 0),
+                   Vec3(0.018, 0, -0.006), Vec3(0.027, 0, -0.006), Vec3(0.018, 0.009, -0.006)});
+  std::vector<std::vector<int>> clusters{{0, 1, 2, 3}, {4, 5, 6}};
+  std::vector<std::vector<SurfaceTouch>> touches{
+      {{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
+      {{Vec3(0.022, 0.004, -0.011), Vec3::UnitZ()}}};
+  EXPECT_EQ(join_facing_clusters(clusters, touches, v, 0.023, 0.04, 0.0025), std::vector<int>{1});
+  EXPECT_EQ(clusters[0], (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+  // The same parts with the lower one slid under the upper one (a fold): two layers.
+  std::vector<PatchVertex> folded = v;
+  for (int k = 4; k < 7; ++k) folded[static_cast<std::size_t>(k)].x.x() -= 0.018;
+  std::vector<std::vector<int>> fold{{0, 1, 2, 3}, {4, 5, 6}};
+  std::vector<std::vector<SurfaceTouch>> pressed{
+      {{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
+      {{Vec3(0.004, 0.004, -0.011), Vec3::UnitZ()}}};
+  EXPECT_EQ(join_facing_clusters(fold, pressed, folded, 0.023, 0.04, 0.0025),
+            std::vector<int>{2});
 }
 
 TEST(RigidPatch, APatchOfTwoVerticesPressedFromOppositeSidesHasAFiniteFrame) {
