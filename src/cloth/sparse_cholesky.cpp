@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "cloth/blas.hpp"
+#include "cloth/substitution_kernels.hpp"
 #include "core/assert.hpp"
 
 namespace dexcloth::cloth {
@@ -553,12 +554,17 @@ template <class T>
 void SparseCholesky::forward_front(int s, T* x, T* product, T* deferred) const {
   const int k1 = m_first[at(s)], w = m_first[at(s) + 1] - k1;
   const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
-  const Panel<T> L(numeric<T>().panel.data() + m_panel_start[at(s)], f, w, Eigen::OuterStride<>(f));
+  const T* panel = numeric<T>().panel.data() + m_panel_start[at(s)];
   // x₁ = L₁₁⁻¹·x₁; the rows below lose L₂₁·x₁ (those in the top later, when `deferred`).
-  VectorMap<T> x1(x + k1, w);
-  L.topRows(w).template triangularView<Eigen::Lower>().solveInPlace(x1);
+  if constexpr (std::is_same_v<T, float>) {
+    kernels::forward_panel(f, w, panel, f, x + k1, product);
+  } else {
+    const Panel<T> L(panel, f, w, Eigen::OuterStride<>(f));
+    VectorMap<T> x1(x + k1, w);
+    L.topRows(w).template triangularView<Eigen::Lower>().solveInPlace(x1);
+    if (b > 0) VectorMap<T>(product, b).noalias() = L.bottomRows(b) * x1;
+  }
   if (b == 0) return;
-  VectorMap<T>(product, b).noalias() = L.bottomRows(b) * x1;
   const int* below = m_rows.data() + m_row_start[at(s)] + w;
   const int now = deferred == nullptr
                       ? b
@@ -613,14 +619,17 @@ void SparseCholesky::backward_front(int s, T* x, int lead, T* gather) const {
   // The unknown columns [k1, k1 + u): x_u = L_uu⁻ᵀ·(x_u − L_ru ᵀ·x_r) over the front's other
   // rows r (known: below the supernode, or given in the tail).
   const int u = std::min(w, lead - k1), known = f - u;
-  const Panel<T> L(numeric<T>().panel.data() + m_panel_start[at(s)], f, u, Eigen::OuterStride<>(f));
-  VectorMap<T> xu(x + k1, u);
-  if (known > 0) {
-    const int* rows = m_rows.data() + m_row_start[at(s)] + u;
-    for (int r = 0; r < known; ++r) gather[r] = x[rows[r]];
-    xu.noalias() -= L.bottomRows(known).transpose() * VectorMap<T>(gather, known);
+  const T* panel = numeric<T>().panel.data() + m_panel_start[at(s)];
+  const int* rows = m_rows.data() + m_row_start[at(s)] + u;
+  for (int r = 0; r < known; ++r) gather[r] = x[rows[r]];
+  if constexpr (std::is_same_v<T, float>) {
+    kernels::backward_panel(f, u, panel, f, x + k1, gather);
+  } else {
+    const Panel<T> L(panel, f, u, Eigen::OuterStride<>(f));
+    VectorMap<T> xu(x + k1, u);
+    if (known > 0) xu.noalias() -= L.bottomRows(known).transpose() * VectorMap<T>(gather, known);
+    L.topRows(u).template triangularView<Eigen::Lower>().transpose().solveInPlace(xu);
   }
-  L.topRows(u).template triangularView<Eigen::Lower>().transpose().solveInPlace(xu);
 }
 
 void SparseCholesky::backward_in_place(std::span<double> x, int tail) const {
