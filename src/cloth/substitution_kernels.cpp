@@ -76,8 +76,8 @@ void backward(int f, int u, const float* L, int ld, float* xu, const float* g, D
 #if defined(__x86_64__)
 
 template <int Cols>
-__attribute__((target("avx2,fma"))) void update_avx2(int m, const float* L, int ld,
-                                                      const float* c, float* dest) {
+__attribute__((target("avx2,fma"))) void update_avx2(int m, const float* L, int ld, const float* c,
+                                                     float* dest) {
   __m256 coefficient[Cols];
   for (int k = 0; k < Cols; ++k) coefficient[k] = _mm256_set1_ps(c[k]);
   int r = 0;
@@ -102,8 +102,8 @@ __attribute__((target("avx2,fma"))) float horizontal_sum(__m256 v) {
 }
 
 template <int Cols>
-__attribute__((target("avx2,fma"))) void dots_avx2(int m, const float* L, int ld,
-                                                    const float* v, float* s) {
+__attribute__((target("avx2,fma"))) void dots_avx2(int m, const float* L, int ld, const float* v,
+                                                   float* s) {
   __m256 sum[Cols];
   for (int k = 0; k < Cols; ++k) sum[k] = _mm256_setzero_ps();
   int r = 0;
@@ -121,19 +121,27 @@ __attribute__((target("avx2,fma"))) void dots_avx2(int m, const float* L, int ld
 
 void update_vector(int m, int cols, const float* L, int ld, const float* c, float* dest) {
   switch (cols) {
-    case 4: return update_avx2<4>(m, L, ld, c, dest);
-    case 3: return update_avx2<3>(m, L, ld, c, dest);
-    case 2: return update_avx2<2>(m, L, ld, c, dest);
-    default: return update_avx2<1>(m, L, ld, c, dest);
+    case 4:
+      return update_avx2<4>(m, L, ld, c, dest);
+    case 3:
+      return update_avx2<3>(m, L, ld, c, dest);
+    case 2:
+      return update_avx2<2>(m, L, ld, c, dest);
+    default:
+      return update_avx2<1>(m, L, ld, c, dest);
   }
 }
 
 void dots_vector(int m, int cols, const float* L, int ld, const float* v, float* s) {
   switch (cols) {
-    case 4: return dots_avx2<4>(m, L, ld, v, s);
-    case 3: return dots_avx2<3>(m, L, ld, v, s);
-    case 2: return dots_avx2<2>(m, L, ld, v, s);
-    default: return dots_avx2<1>(m, L, ld, v, s);
+    case 4:
+      return dots_avx2<4>(m, L, ld, v, s);
+    case 3:
+      return dots_avx2<3>(m, L, ld, v, s);
+    case 2:
+      return dots_avx2<2>(m, L, ld, v, s);
+    default:
+      return dots_avx2<1>(m, L, ld, v, s);
   }
 }
 

@@ -60,8 +60,8 @@ TEST(CurtainHand, TheKinematicBaselineLetsTheCurtainSlipInThePinch) {
   // with this machine's default, 11.8 cm with Cooperlake or SkylakeX, 14.8 cm with Sandybridge
   // (the pinched vertex carried 21.6–25.1 cm along the rod); at 1.8 s, where this test once
   // stopped, 4.6–11.9 cm. With the single-precision substitution kernels (7 Dec, default
-  // OpenBLAS kernels): 14.5 cm, carried 23.0 cm. Required: beyond 4 cm, against the 1.5 cm the pads keep in the
-  // paper's coupling (TheHandSlidesTheCurtainAlongItsRodByAKeyPinch).
+  // OpenBLAS kernels): 14.5 cm, carried 23.0 cm. Required: beyond 4 cm, against the 1.5 cm the pads
+  // keep in the paper's coupling (TheHandSlidesTheCurtainAlongItsRodByAKeyPinch).
   const auto s = run_scene("curtain_hand", "--coupling kinematic");
   EXPECT_EQ(s["nan"], false);
   EXPECT_EQ(s["patches_max"], 0);

@@ -20,7 +20,10 @@ struct RandomPanel {
   Eigen::MatrixXd dense;  // the same values, f × w
 
   RandomPanel(int rows, int columns, std::mt19937& rng)
-      : f(rows), w(columns), ld(rows + 3), L(static_cast<std::size_t>(ld * columns), 99.0F),
+      : f(rows),
+        w(columns),
+        ld(rows + 3),
+        L(static_cast<std::size_t>(ld * columns), 99.0F),
         dense(Eigen::MatrixXd::Zero(rows, columns)) {
     std::uniform_real_distribution<float> uni(-1.0F, 1.0F);
     for (int j = 0; j < w; ++j)
@@ -54,14 +57,15 @@ const int kBelow[] = {0, 1, 7, 8, 9, 31, 100};
 TEST(SubstitutionKernels, ForwardSolvesTheTriangleAndMultipliesTheRowsBelow) {
   std::mt19937 rng(11);
   using Forward = void (*)(int, int, const float*, int, float*, float*);
-  for (const Forward forward : {Forward{kernels::forward_panel}, Forward{kernels::forward_panel_plain}})
+  for (const Forward forward :
+       {Forward{kernels::forward_panel}, Forward{kernels::forward_panel_plain}})
     for (int w : kWidths)
       for (int below : kBelow) {
         const RandomPanel p(w + below, w, rng);
         std::vector<float> x = random_vector(w, rng);
         std::vector<float> y(static_cast<std::size_t>(below) + 1, 77.0F);  // one past: untouched
-        const Eigen::VectorXd x1 = p.dense.topRows(w).triangularView<Eigen::Lower>().solve(
-            to_double(x, 0, w));
+        const Eigen::VectorXd x1 =
+            p.dense.topRows(w).triangularView<Eigen::Lower>().solve(to_double(x, 0, w));
         const Eigen::VectorXd y1 = p.dense.bottomRows(below) * x1;
         forward(p.f, p.w, p.L.data(), p.ld, x.data(), y.data());
         EXPECT_LE((to_double(x, 0, w) - x1).norm(), 1e-5 * x1.norm()) << w << " " << below;

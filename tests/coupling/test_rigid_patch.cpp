@@ -264,8 +264,8 @@ TEST(RigidPatch, AFoldSqueezedBetweenTwoFingersIsOneStack) {
   EXPECT_EQ(single, (std::vector<int>{1, 1}));
   // A layer split in two pieces under one finger, facing a layer under the other: one stack of
   // two layers, not three.
-  const std::vector<PatchVertex> p = vertices_at(
-      {Vec3(0, 0, 0), Vec3(0.008, 0, 0), Vec3(0.001, 0, 0.005)});
+  const std::vector<PatchVertex> p =
+      vertices_at({Vec3(0, 0, 0), Vec3(0.008, 0, 0), Vec3(0.001, 0, 0.005)});
   std::vector<std::vector<int>> pieces{{0}, {1}, {2}};
   std::vector<std::vector<SurfaceTouch>> pressed{{{Vec3(0, 0, -0.005), Vec3::UnitZ()}},
                                                  {{Vec3(0.008, 0, -0.005), Vec3::UnitZ()}},
@@ -287,20 +287,17 @@ TEST(RigidPatch, ALayerSteppedBetweenTwoFingersIsOneStackOfOneLayer) {
       vertices_at({Vec3(0, 0, 0), Vec3(0.009, 0, 0), Vec3(0, 0.009, 0), Vec3(0.009, 0.009, 0),
                    Vec3(0.018, 0, -0.006), Vec3(0.027, 0, -0.006), Vec3(0.018, 0.009, -0.006)});
   std::vector<std::vector<int>> clusters{{0, 1, 2, 3}, {4, 5, 6}};
-  std::vector<std::vector<SurfaceTouch>> touches{
-      {{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
-      {{Vec3(0.022, 0.004, -0.011), Vec3::UnitZ()}}};
+  std::vector<std::vector<SurfaceTouch>> touches{{{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
+                                                 {{Vec3(0.022, 0.004, -0.011), Vec3::UnitZ()}}};
   EXPECT_EQ(join_facing_clusters(clusters, touches, v, 0.023, 0.04, 0.0025), std::vector<int>{1});
   EXPECT_EQ(clusters[0], (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
   // The same parts with the lower one slid under the upper one (a fold): two layers.
   std::vector<PatchVertex> folded = v;
   for (int k = 4; k < 7; ++k) folded[static_cast<std::size_t>(k)].x.x() -= 0.018;
   std::vector<std::vector<int>> fold{{0, 1, 2, 3}, {4, 5, 6}};
-  std::vector<std::vector<SurfaceTouch>> pressed{
-      {{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
-      {{Vec3(0.004, 0.004, -0.011), Vec3::UnitZ()}}};
-  EXPECT_EQ(join_facing_clusters(fold, pressed, folded, 0.023, 0.04, 0.0025),
-            std::vector<int>{2});
+  std::vector<std::vector<SurfaceTouch>> pressed{{{Vec3(0.004, 0.004, 0.005), -Vec3::UnitZ()}},
+                                                 {{Vec3(0.004, 0.004, -0.011), Vec3::UnitZ()}}};
+  EXPECT_EQ(join_facing_clusters(fold, pressed, folded, 0.023, 0.04, 0.0025), std::vector<int>{2});
 }
 
 TEST(RigidPatch, APatchOfTwoVerticesPressedFromOppositeSidesHasAFiniteFrame) {
