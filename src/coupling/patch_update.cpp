@@ -1,6 +1,8 @@
 #include "coupling/patch_update.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 #include "coupling/speculative_touches.hpp"
 
@@ -26,6 +28,36 @@ Vec3 clustering_normal(const Vec3& n, std::span<const ContactGroup> groups, int 
   for (const ContactGroup& g : groups)
     if (g.other_mesh >= cloth_meshes) sum += g.normal.dot(n) >= 0.0 ? g.normal : Vec3(-g.normal);
   return sum.norm() > 0.0 ? Vec3(sum.normalized()) : n;
+}
+
+Vec3 body_normal(const ContactGroup& group, const Points& x, const Triangles& faces) {
+  const std::array<int, 3>& v = group.other_vertices;
+  const auto face_normal = [&](int a, int b, int c) -> Vec3 {
+    return (x.row(b) - x.row(a)).transpose().cross((x.row(c) - x.row(a)).transpose());
+  };
+  Vec3 n = Vec3::Zero();
+  if (v[2] >= 0) {
+    n = face_normal(v[0], v[1], v[2]).normalized();
+  } else if (v[0] >= 0) {
+    // The body's faces at the touching corner (or edge): the one facing the cloth most.
+    double best = -2.0;
+    for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+      const auto at = [&](int i) {
+        return faces(f, 0) == i || faces(f, 1) == i || faces(f, 2) == i;
+      };
+      if (!at(v[0]) && !(v[1] >= 0 && at(v[1]))) continue;
+      const Vec3 m = face_normal(faces(f, 0), faces(f, 1), faces(f, 2));
+      const double len = m.norm();
+      if (!(len > 0.0)) continue;
+      const double facing = std::abs(m.dot(group.normal)) / len;
+      if (facing > best) {
+        best = facing;
+        n = m / len;
+      }
+    }
+  }
+  if (!(n.norm() > 0.5)) return group.normal;
+  return n.dot(group.normal) >= 0.0 ? n : Vec3(-n);
 }
 
 namespace {
@@ -63,7 +95,8 @@ void surface_touches(const std::vector<int>& cluster, const std::vector<ContactG
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
       if (group.speculative) point -= last_substep * group.other_velocity + press * group.normal;
-      out.push_back({point, group.normal, !data.rigid.mesh_coupled[body], group.speculative});
+      out.push_back({point, body_normal(group, x, data.rigid.meshes[body].faces),
+                     !data.rigid.mesh_coupled[body], group.speculative, static_cast<int>(body)});
     }
   }
 }

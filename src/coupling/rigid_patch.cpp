@@ -281,7 +281,8 @@ constexpr double kOneSidedShare = 0.8;
 /// turned to +n.
 struct FacingSurfaces {
   std::vector<double> above, below;
-  std::array<std::vector<double>, 3> normals;  ///< x, y, z components
+  std::vector<int> above_bodies, below_bodies;  ///< SurfaceTouch::body of each
+  std::array<std::vector<double>, 3> normals;   ///< x, y, z components
   bool ahead{false};  ///< one of them is a touch ahead of a fast body (SurfaceTouch::ahead)
 };
 
@@ -294,8 +295,14 @@ FacingSurfaces facing_surfaces(std::span<const SurfaceTouch> touches, const Vec3
     const double facing = t.normal.dot(n);
     const double s = (t.point - center).dot(n);
     const bool above = facing <= -min_cosine && s > 0.0, below = facing >= min_cosine && s < 0.0;
-    if (above) f.above.push_back(s);
-    if (below) f.below.push_back(s);
+    if (above) {
+      f.above.push_back(s);
+      f.above_bodies.push_back(t.body);
+    }
+    if (below) {
+      f.below.push_back(s);
+      f.below_bodies.push_back(t.body);
+    }
     if (!above && !below) continue;
     for (int k = 0; k < 3; ++k) f.normals[k].push_back(above ? -t.normal[k] : t.normal[k]);
     f.ahead = f.ahead || t.ahead;
@@ -311,11 +318,28 @@ void shift_box(RigidPatch& patch, const Vec3& shift, double thickness) {
   patch.size.z() = thickness;
 }
 
+/// The body that most of `bodies` name (the lowest such id on a tie).
+int most_frequent(std::vector<int> bodies) {
+  std::sort(bodies.begin(), bodies.end());
+  int best = bodies.front(), best_count = 0;
+  for (std::size_t i = 0; i < bodies.size();) {
+    std::size_t j = i;
+    while (j < bodies.size() && bodies[j] == bodies[i]) ++j;
+    if (static_cast<int>(j - i) > best_count) {
+      best = bodies[i];
+      best_count = static_cast<int>(j - i);
+    }
+    i = j;
+  }
+  return best;
+}
+
 }  // namespace
 
 bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness) {
-  FacingSurfaces f = facing_surfaces(touches, patch.center, patch.R.col(2));
+  Vec3 axis = patch.R.col(2);
+  FacingSurfaces f = facing_surfaces(touches, patch.center, axis);
   if (f.above.empty() || f.below.empty()) {
     // The fitted plane may tilt beyond kFacingDeg from the fingers (a fold bent round a pad's
     // edge joined the cluster; in a carried pinch it tilted 23° and the box, left thinner and
@@ -328,16 +352,22 @@ bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> to
       for (int k = 0; k < 3; ++k) turned[static_cast<std::size_t>(k)].push_back(m[k]);
     }
     if (turned[0].empty()) return false;
-    const Vec3 m = median_direction(turned);
-    if (m.squaredNorm() == 0.0) return false;
-    f = facing_surfaces(touches, patch.center, m);
+    axis = median_direction(turned);
+    if (axis.squaredNorm() == 0.0) return false;
+    f = facing_surfaces(touches, patch.center, axis);
     if (f.above.empty() || f.below.empty()) return false;
   }
+  // The pads: on each side, the body that touches the cloth most.
+  const int top = most_frequent(f.above_bodies), bottom = most_frequent(f.below_bodies);
+  std::vector<SurfaceTouch> pads;
+  for (const SurfaceTouch& t : touches)
+    if (t.body == top || t.body == bottom) pads.push_back(t);
+  f = facing_surfaces(pads, patch.center, axis);
   // Turn the box to the surfaces' mean plane: the plane fitted to crumpled cloth in a pinch tilts
   // by up to 20°, and the corners of a tilted box sink millimetres deep into a finger, which
   // then takes the box's contact on an edge instead of squeezing it flat.
   Vec3 n = median_direction(f.normals);
-  FacingSurfaces turned = facing_surfaces(touches, patch.center, n);
+  FacingSurfaces turned = facing_surfaces(pads, patch.center, n);
   if (!turned.above.empty() && !turned.below.empty()) {  // (none for a zero n)
     patch.R = Eigen::Quaterniond::FromTwoVectors(patch.R.col(2), n).toRotationMatrix() * patch.R;
     f = std::move(turned);

@@ -59,6 +59,7 @@ struct SurfaceTouch {
   /// The surface of a fast body ahead of the cloth (speculative_touches.hpp), placed where DART
   /// is to meet it within its next step (patch_update.cpp): the box reaches out to it.
   bool ahead{false};
+  int body{-1};  ///< the touching body, or −1 (centre_between_surfaces faces one per side)
 };
 
 /// Centres the patch between the rigid surfaces its cloth touches on both sides (two fingers
@@ -70,11 +71,15 @@ struct SurfaceTouch {
 /// to the patch's side) and then centred on the median offset of each side (a finger's flank
 /// beside the pad is outvoted). When no surface faces the patch's normal on one side, the same
 /// is tried about the median of all the touches' normals (a plane fitted to cloth bent round a
-/// pad's edge can tilt more than 20°). Supports (SurfaceTouch::support) are left out: a cloth
-/// pressed onto a table lies on it (lay_on_support). A patch touched on one side only, or none, is
-/// left as it is. When one of the facing surfaces is a touch ahead of a fast body
-/// (SurfaceTouch::ahead), the box fills the gap between the two sides' medians if that is more
-/// than `thickness`, so both fingers meet it within the step. Returns whether it was centred.
+/// pad's edge can tilt more than 20°). Of the surfaces facing each side only the body with the
+/// most touches there counts (SurfaceTouch::body; the pad): a flat box meets one body per side,
+/// and turned to the median of a thumb's pad and its proximal phalanx, bent away behind it, a
+/// box leant on the phalanx and left the pad without squeeze. Supports (SurfaceTouch::support)
+/// are left out: a cloth pressed onto a table lies on it (lay_on_support). A patch touched on one
+/// side only, or none, is left as it is. When one of the facing surfaces is a touch ahead of a
+/// fast body (SurfaceTouch::ahead), the box fills the gap between the two sides' medians if that
+/// is more than `thickness`, so both fingers meet it within the step. Returns whether it was
+/// centred.
 bool centre_between_surfaces(RigidPatch& patch, std::span<const SurfaceTouch> touches,
                              double thickness);
 

@@ -227,6 +227,31 @@ TEST(RigidPatch, APatchFittedMoreThanTwentyDegreesOffTheFingersIsStillTurnedToTh
   EXPECT_NEAR((p.R.transpose() * p.R - Mat3::Identity()).norm(), 0.0, 1e-12);
 }
 
+TEST(RigidPatch, APatchBetweenTwoFingersFacesThePadThatTouchesMostOnEachSide) {
+  // Each finger's pad (bodies 1 above, 3 below: three touches each, horizontal, 3 mm above and
+  // 4 mm below the centre) and two other links of each finger bent 15° away behind it (bodies
+  // 2, 5 above and 4, 6 below: two touches each, 2 and 0.5 mm farther out). Most touches are the
+  // links', so their medians would tilt the box 15° and shift it; the box faces the pads.
+  RigidPatch p = tilted_patch(0.0);
+  const Vec3 c0 = p.center;
+  std::vector<SurfaceTouch> touches = horizontal_pads(c0);
+  for (std::size_t k = 0; k < touches.size(); ++k)
+    touches[k].body = touches[k].normal.z() < 0 ? 1 : 3;
+  const Vec3 tilted_down = Eigen::AngleAxisd(15.0 * M_PI / 180.0, Vec3::UnitY()) * Vec3::UnitZ();
+  for (int link : {2, 5, 4, 6})
+    for (int k = 0; k < 2; ++k) {
+      const bool above = link == 2 || link == 5;
+      SurfaceTouch t{c0 + Vec3(-0.006 - 0.003 * k, 0.001 * link, above ? 0.005 : -0.0045),
+                     above ? Vec3(-tilted_down) : tilted_down};
+      t.body = link;
+      touches.push_back(t);
+    }
+  centre_between_surfaces(p, touches, 0.0104);
+  EXPECT_NEAR(p.R.col(2).dot(Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR(p.center.z() - c0.z(), -0.0005, 1e-12);  // midway between the pads
+  EXPECT_NEAR(p.size.z(), 0.0104, 1e-15);
+}
+
 /// Patch vertices at `points` (normal +z, 1 g, at rest).
 std::vector<PatchVertex> vertices_at(std::initializer_list<Vec3> points) {
   std::vector<PatchVertex> v;
