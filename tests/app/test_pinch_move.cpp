@@ -22,8 +22,9 @@ TEST(PinchMove, TheHandCarriesTheSheetByFrictionAloneWithoutIntersections) {
   // carries it 20 cm and turns it 60°: the pinched vertex rises with the hand and stays between
   // the pads. Measured over five runs (three with the sheet shifted 0.3 mm): at most 5.9–6.3 mm
   // from the pad centres, 14.7–14.8 cm of rise (7 Dec, with the single-precision substitution
-  // kernels: 6.2 mm, 14.8 cm; over 20 seeded starts of scripts/hold_sweep.mjs, 18 held within
-  // 5.7–8.9 mm). Before squeezed vertices moved with the pads along the normal, the sheet slid
+  // kernels and the bodies' own normals at the patches' touches: 6.2 mm, 14.8 cm; over 20
+  // seeded starts of scripts/hold_sweep.mjs all 20 held within 5.6–6.9 mm, 18 without the
+  // normals). Before squeezed vertices moved with the pads along the normal, the sheet slid
   // out within 0.2 s of the release: the pinched vertex ended 37 cm from the pads and below
   // where it was let go.
   const Carry c = carry(s, "pinched", 1.4);
@@ -100,8 +101,9 @@ TEST(PinchMove, ThePadsKeepSqueezingAndHoldTheSheetFromALowGapStart) {
   // N with Cooperlake, SkylakeX or Sandybridge; the least 40 ms mean 0.14–0.25 N, the mean over
   // the lift 0.44–0.58 N; the pinched vertex ends 8.2 mm (default), 17.8 mm (Cooperlake) and
   // 9.7 mm (Sandybridge) from the pads' middle. Those were before the single-precision
-  // substitution kernels; with them (default kernels, 7 Dec): 0.273 N, 0.586 N, 0.678 N and
-  // 2.4 mm. With the joints' gains cut to 15 % the sheet drops: 0 N, 21 cm from the pads.
+  // substitution kernels and the bodies' own normals at the patches' touches; with them
+  // (default kernels, 7 Dec): 0.0001 N, 0.513 N, 0.652 N and 2.2 mm. With the joints' gains
+  // cut to 15 % the sheet drops: 0 N, 21 cm from the pads.
   namespace rigid = dexcloth::rigid;
   const dexcloth::scene::SceneSpec spec = dexcloth::scene::load_scene(
       (source_dir() / "scenes" / "pinch_move.json").string(), kLowGapStart);
