@@ -1,6 +1,7 @@
 #include "cloth/substitution_kernels.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -119,30 +120,27 @@ __attribute__((target("avx2,fma"))) void dots_avx2(int m, const float* L, int ld
   }
 }
 
-void update_vector(int m, int cols, const float* L, int ld, const float* c, float* dest) {
+/// Calls `kernel` with the column count `cols` (1–4) as a compile-time constant.
+template <class Kernel>
+void with_columns(int cols, Kernel kernel) {
   switch (cols) {
     case 4:
-      return update_avx2<4>(m, L, ld, c, dest);
+      return kernel(std::integral_constant<int, 4>{});
     case 3:
-      return update_avx2<3>(m, L, ld, c, dest);
+      return kernel(std::integral_constant<int, 3>{});
     case 2:
-      return update_avx2<2>(m, L, ld, c, dest);
+      return kernel(std::integral_constant<int, 2>{});
     default:
-      return update_avx2<1>(m, L, ld, c, dest);
+      return kernel(std::integral_constant<int, 1>{});
   }
 }
 
+void update_vector(int m, int cols, const float* L, int ld, const float* c, float* dest) {
+  with_columns(cols, [&](auto n) { update_avx2<decltype(n)::value>(m, L, ld, c, dest); });
+}
+
 void dots_vector(int m, int cols, const float* L, int ld, const float* v, float* s) {
-  switch (cols) {
-    case 4:
-      return dots_avx2<4>(m, L, ld, v, s);
-    case 3:
-      return dots_avx2<3>(m, L, ld, v, s);
-    case 2:
-      return dots_avx2<2>(m, L, ld, v, s);
-    default:
-      return dots_avx2<1>(m, L, ld, v, s);
-  }
+  with_columns(cols, [&](auto n) { dots_avx2<decltype(n)::value>(m, L, ld, v, s); });
 }
 
 bool cpu_has_avx2_fma() {
