@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "coupling/speculative_touches.hpp"
 
@@ -30,23 +31,35 @@ Vec3 clustering_normal(const Vec3& n, std::span<const ContactGroup> groups, int 
   return sum.norm() > 0.0 ? Vec3(sum.normalized()) : n;
 }
 
-Vec3 body_normal(const ContactGroup& group, const Points& x, const Triangles& faces) {
+Vec3 body_normal(const ContactGroup& group, const Points& x, const Triangles& faces,
+                 const collision::MeshTopology& topology) {
   const std::array<int, 3>& v = group.other_vertices;
-  const auto face_normal = [&](int a, int b, int c) -> Vec3 {
-    return (x.row(b) - x.row(a)).transpose().cross((x.row(c) - x.row(a)).transpose());
+  const auto face_normal = [&](int f) -> Vec3 {
+    const Vec3 a = x.row(faces(f, 0)).transpose();
+    return (x.row(faces(f, 1)).transpose() - a).cross(x.row(faces(f, 2)).transpose() - a);
   };
   Vec3 n = Vec3::Zero();
   if (v[2] >= 0) {
-    n = face_normal(v[0], v[1], v[2]).normalized();
-  } else if (v[0] >= 0) {
-    // The body's faces at the touching corner (or edge): the one facing the cloth most.
-    double best = -2.0;
-    for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-      const auto at = [&](int i) {
-        return faces(f, 0) == i || faces(f, 1) == i || faces(f, 2) == i;
-      };
-      if (!at(v[0]) && !(v[1] >= 0 && at(v[1]))) continue;
-      const Vec3 m = face_normal(faces(f, 0), faces(f, 1), faces(f, 2));
+    n = (x.row(v[1]) - x.row(v[0])).transpose().cross((x.row(v[2]) - x.row(v[0])).transpose());
+    n.normalize();
+  } else if (v[0] >= 0 && topology.num_vertices == x.rows()) {
+    // The body's faces around the touching corner (or the edge's two ends), in face order: the
+    // one facing the cloth most.
+    const auto star = [&](int i) -> std::pair<int, int> {
+      if (i < 0) return {0, 0};
+      return {topology.vertex_face_start[static_cast<std::size_t>(i)],
+              topology.vertex_face_start[static_cast<std::size_t>(i) + 1]};
+    };
+    auto [p, p_end] = star(v[0]);
+    auto [q, q_end] = star(v[1]);
+    const auto face_at = [&](int k) { return topology.vertex_faces[static_cast<std::size_t>(k)]; };
+    double best = -1.0;
+    while (p < p_end || q < q_end) {
+      // The next face of the two ascending lists, once.
+      const int f = q == q_end || (p < p_end && face_at(p) <= face_at(q)) ? face_at(p) : face_at(q);
+      while (p < p_end && face_at(p) == f) ++p;
+      while (q < q_end && face_at(q) == f) ++q;
+      const Vec3 m = face_normal(f);
       const double len = m.norm();
       if (!(len > 0.0)) continue;
       const double facing = std::abs(m.dot(group.normal)) / len;
@@ -95,7 +108,8 @@ void surface_touches(const std::vector<int>& cluster, const std::vector<ContactG
           point += group.other_weights[j] *
                    x.row(group.other_vertices[static_cast<std::size_t>(j)]).transpose();
       if (group.speculative) point -= last_substep * group.other_velocity + press * group.normal;
-      out.push_back({point, body_normal(group, x, data.rigid.meshes[body].faces),
+      const collision::MeshTopology& topology = data.contacts.candidates.topology(group.other_mesh);
+      out.push_back({point, body_normal(group, x, data.rigid.meshes[body].faces, topology),
                      !data.rigid.mesh_coupled[body], group.speculative, static_cast<int>(body)});
     }
   }

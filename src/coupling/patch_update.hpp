@@ -2,6 +2,7 @@
 /// Paper §5 in the time step: rigid cloth patches rebuilt from the cloth under the hand.
 #include <span>
 
+#include "cloth/collision/mesh_topology.hpp"
 #include "coupling/world.hpp"
 
 namespace dexcloth::coupling {
@@ -29,16 +30,18 @@ int update_patches(const WorldModel& model, int cloth_meshes, WorldData& data);
 Vec3 clustering_normal(const Vec3& n, std::span<const ContactGroup> groups, int cloth_meshes);
 
 /// A body's own unit normal where it touches a cloth vertex through `group`, at the body's
-/// vertex positions `x` (its faces `faces`): the normal of the body's face the vertex touches,
-/// or, where a vertex or an edge of the body touches the cloth, the normal of the face at that
-/// corner or edge that faces the group's normal most; the group's normal where there is none.
+/// vertex positions `x` (its faces `faces`, with `topology` built for them): the normal of the
+/// body's face the vertex touches, or, where a vertex or an edge of the body touches the cloth,
+/// the normal of the face around that corner or the edge's ends that faces the group's normal
+/// most; the group's normal where there is none (or `topology` is not the mesh's).
 /// Turned to the group's side (toward the vertex). The group's own normal is its records' mean,
 /// and a body's corner touching a cloth face records the cloth's normal: in a pinch whose cloth
 /// lay 16° off the pads the patch was turned to the cloth, the pads met its faces askew and
 /// squeezed it aside (DART's force on it 0.001–0.01 N), closed to 8.6 mm, 1.6 mm inside the
 /// cloth's repulsion layers, and the sheet crept out. (A corner's mean vertex normal is no
 /// better: the hand's cylinders have every vertex on a rim, halfway between side and cap.)
-Vec3 body_normal(const ContactGroup& group, const Points& x, const Triangles& faces);
+Vec3 body_normal(const ContactGroup& group, const Points& x, const Triangles& faces,
+                 const collision::MeshTopology& topology);
 
 /// Area-weighted unit vertex normals of a triangle mesh (|V|×3 into `normals`).
 void vertex_normals(const Triangles& faces, const Points& x, Points& normals);

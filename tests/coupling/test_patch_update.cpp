@@ -43,6 +43,8 @@ TEST(PatchUpdate, ATouchTakesTheBodysOwnNormalNotTheClothsItsRecordCarries) {
   // A 2 cm box; the cloth lies on its +y face, tilted 16° toward +x, and the group's normal is
   // the cloth's (a record of a box corner against a cloth face carries the cloth's normal).
   const rigid::LocalMesh box = rigid::box_mesh(Vec3(0.02, 0.02, 0.02));
+  const collision::MeshTopology topology =
+      collision::build_topology(box.faces, static_cast<int>(box.x.rows()));
   const auto corner_at = [&](const Vec3& p) {
     for (Eigen::Index i = 0; i < box.x.rows(); ++i)
       if ((box.x.row(i).transpose() - p).norm() < 1e-12) return static_cast<int>(i);
@@ -57,16 +59,16 @@ TEST(PatchUpdate, ATouchTakesTheBodysOwnNormalNotTheClothsItsRecordCarries) {
   ContactGroup corner = group(2, cloth);
   corner.other_vertices = {c0, -1, -1};
   corner.other_weights = Vec3(1, 0, 0);
-  EXPECT_NEAR((body_normal(corner, box.x, box.faces) - Vec3::UnitY()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body_normal(corner, box.x, box.faces, topology) - Vec3::UnitY()).norm(), 0.0, 1e-12);
   // Tilted past 45° toward +x, the cloth lies on the +x face.
   const Vec3 steep(std::sin(1.0), std::cos(1.0), 0.0);
   corner.normal = steep;
-  EXPECT_NEAR((body_normal(corner, box.x, box.faces) - Vec3::UnitX()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body_normal(corner, box.x, box.faces, topology) - Vec3::UnitX()).norm(), 0.0, 1e-12);
   // An edge of the box (between the +y and +z faces): the +y face.
   ContactGroup edge = group(2, cloth);
   edge.other_vertices = {c0, c1, -1};
   edge.other_weights = Vec3(0.3, 0.7, 0);
-  EXPECT_NEAR((body_normal(edge, box.x, box.faces) - Vec3::UnitY()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body_normal(edge, box.x, box.faces, topology) - Vec3::UnitY()).norm(), 0.0, 1e-12);
   // A cloth vertex over a face of the box: that face's normal, whatever the cloth's.
   for (Eigen::Index f = 0; f < box.faces.rows(); ++f) {
     const Vec3 n = (box.x.row(box.faces(f, 1)) - box.x.row(box.faces(f, 0)))
@@ -76,14 +78,14 @@ TEST(PatchUpdate, ATouchTakesTheBodysOwnNormalNotTheClothsItsRecordCarries) {
     if (n.dot(Vec3::UnitY()) < 0.99) continue;
     ContactGroup face = group(2, cloth);
     face.other_vertices = {box.faces(f, 0), box.faces(f, 1), box.faces(f, 2)};
-    EXPECT_NEAR((body_normal(face, box.x, box.faces) - Vec3::UnitY()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((body_normal(face, box.x, box.faces, topology) - Vec3::UnitY()).norm(), 0.0, 1e-12);
   }
   // From below (the group's normal on the other side): turned to that side.
   ContactGroup below = group(2, -cloth);
   below.other_vertices = {c0, -1, -1};
   below.other_weights = Vec3(1, 0, 0);
-  EXPECT_NEAR((body_normal(below, box.x, box.faces) + Vec3::UnitY()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body_normal(below, box.x, box.faces, topology) + Vec3::UnitY()).norm(), 0.0, 1e-12);
   // No corner (a degenerate record): the group's normal.
   ContactGroup none = group(2, cloth);
-  EXPECT_NEAR((body_normal(none, box.x, box.faces) - cloth).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body_normal(none, box.x, box.faces, topology) - cloth).norm(), 0.0, 1e-12);
 }
