@@ -1,5 +1,6 @@
 #include "cli_runner.hpp"
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -8,8 +9,6 @@
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "io/recording.hpp"
 
@@ -30,8 +29,11 @@ CliResult run_cli(const std::string& args, const std::string& prefix) {
 std::filesystem::path fresh_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::string test = info ? std::string(info->test_suite_name()) + "_" + info->name() : "t";
-  auto dir = std::filesystem::temp_directory_path() / ("dexcloth_" + test + "_" + name);
+  // Under this build tree, so that two builds' suites run at once do not share outputs.
+  auto dir =
+      std::filesystem::path(DEXCLOTH_BINARY_DIR) / "test_output" / "app" / (test + "_" + name);
   std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir.parent_path());
   return dir;
 }
 
@@ -95,8 +97,8 @@ Carry carry(const nlohmann::json& s, const std::string& pinched, double release)
     const double t = p[k][0].get<double>();
     if (t <= release + 1e-9) z_release = p[k][3].get<double>();
     if (t >= release - 1e-9)
-      out.farthest = std::max(
-          {out.farthest, probe_distance(p[k], thumb[k]), probe_distance(p[k], index[k])});
+      out.farthest =
+          std::max({out.farthest, probe_distance(p[k], thumb[k]), probe_distance(p[k], index[k])});
   }
   out.rise = p.back()[3].get<double>() - z_release;
   return out;

@@ -17,7 +17,7 @@ struct CliResult {
 /// `prefix` (e.g. "cd /tmp && NAME=value ").
 CliResult run_cli(const std::string& args, const std::string& prefix = "");
 
-/// A fresh, empty folder under the system temp dir, unique to this test.
+/// A fresh, empty folder under the build tree (test_output/app), unique to this test and name.
 std::filesystem::path fresh_dir(const std::string& name);
 
 /// Reads a JSON file.

@@ -14,9 +14,10 @@ using namespace dexcloth::cloth;
 
 namespace {
 
-/// Writes `text` to a fresh file under the gtest temporary directory and returns its path.
+/// Writes `text` to a fresh file under the build tree's test outputs and returns its path.
 std::string write_temp(const std::string& name, const std::string& text) {
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "dexcloth_mesh";
+  const std::filesystem::path dir =
+      std::filesystem::path(DEXCLOTH_BINARY_DIR) / "test_output" / "cloth" / "mesh";
   std::filesystem::create_directories(dir);
   const std::string path = (dir / name).string();
   std::ofstream(path) << text;

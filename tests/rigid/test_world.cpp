@@ -17,6 +17,13 @@ using test::add_box;
 using test::add_table;
 using test::asset;
 
+/// A folder for this suite's input files, under the build tree.
+std::filesystem::path output_dir() {
+  const auto dir = std::filesystem::path(DEXCLOTH_BINARY_DIR) / "test_output" / "rigid";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 TEST(RigidWorld, HumanHandHas33DofsAdultMassAndCapsules) {
   RigidWorld world;
   const SkeletonId hand = world.add_urdf("hand", asset("human_hand.urdf"));
@@ -50,7 +57,7 @@ TEST(RigidWorld, MissingAndMalformedUrdfNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/hand.urdf"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("not found"), std::string::npos) << e.what();
   }
-  const std::string bad = (std::filesystem::temp_directory_path() / "dexcloth_bad.urdf").string();
+  const std::string bad = (output_dir() / "bad.urdf").string();
   std::ofstream(bad) << "<robot name=\"x\"><link name=\"a\"></robot";
   try {
     world.add_urdf("bad", bad);
@@ -63,11 +70,11 @@ TEST(RigidWorld, MissingAndMalformedUrdfNameTheFile) {
 
 TEST(RigidWorld, AMeshPropWithNonFiniteOrNoTrianglesIsRejectedNamingTheFile) {
   // The mesh reader takes "nan" and "inf" for numbers; a body made of them has no surface.
-  const auto dir = std::filesystem::temp_directory_path();
+  const auto dir = output_dir();
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"dexcloth_nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"},
-      {"dexcloth_inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n"},
-      {"dexcloth_lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n"}};
+      {"nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"},
+      {"inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n"},
+      {"lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n"}};
   for (const auto& [name, text] : cases) {
     const std::string path = (dir / name).string();
     std::ofstream(path) << text;
