@@ -188,6 +188,7 @@ CompiledScene compile_scene(const SceneSpec& spec) {
       body.model = cloth::build_model(mesh, to_material(cs.material));
       if (spec.solver.factor_precision == "single")
         body.model.solver.factor_precision = cloth::Precision::single_precision;
+      body.model.solver.refine_tolerance = spec.solver.refine_tolerance;
     } catch (const InputRejected& e) {
       for (const InputError& err : e.errors().errors())
         errors.add(spec.file, pointer + "/mesh", err.message);

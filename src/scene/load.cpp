@@ -56,15 +56,18 @@ CollisionSpec parse_collision(Checker& c, const Json& doc, const Pointer& root) 
   return s;
 }
 
-// `solver`: the precision of the cloths' Cholesky factor.
+// `solver`: the precision of the cloths' Cholesky factor and the residual its solves are refined
+// to (at most the implicit step's accepted 1e-5).
 SolverSpec parse_solver(Checker& c, const Json& doc, const Pointer& root) {
   SolverSpec s;
   const Json* v = c.member(doc, root, "solver", Need::optional);
   const Pointer at = root / "solver";
   if (!v || !c.require_object(*v, at)) return s;
-  c.check_keys(*v, at, {"factor_precision"});
+  c.check_keys(*v, at, {"factor_precision", "refine_tolerance"});
   if (c.string_field(*v, at, "factor_precision", s.factor_precision))
     check_choice(c, at / "factor_precision", s.factor_precision, {"double", "single"});
+  c.number_field(*v, at, "refine_tolerance", Rule::between(0.0, true, 1e-5, false),
+                 s.refine_tolerance);
   return s;
 }
 

@@ -109,6 +109,7 @@ struct CouplingSpec {
 /// The cloths' implicit solve.
 struct SolverSpec {
   std::string factor_precision{"double"};  ///< "double" or "single" (refined in double)
+  double refine_tolerance{1e-10};  ///< relative residual a single factor's solves are refined to
 };
 
 struct SceneSpec {

@@ -4,6 +4,7 @@
 // Schur-complement solve against the Newton iterations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -292,9 +293,11 @@ TEST(DynamicsFriction, SchurComplementOfASinglePrecisionFactorRefinesToTheSameSt
   // as with the double factor (up to 1.3e-8 in this run with OpenBLAS's Haswell kernels, 2.1e-8
   // with its SkylakeX ones: OPENBLAS_CORETYPE=SkylakeX).
   const ClothMesh mesh = strip_mesh();
-  const auto run = [&](Precision precision, int& refined, int& reached) {
+  const auto run = [&](Precision precision, int& refined, int& reached,
+                       double refine_tolerance = SolverSettings{}.refine_tolerance) {
     ClothModel model = direct_strip_model();
     model.solver.factor_precision = precision;
+    model.solver.refine_tolerance = refine_tolerance;
     ClothState state = make_state(model, mesh.x);
     std::vector<FrictionConstraint> friction = pinch_top_rows(1.1 * model.mass.sum() * kG * kStep);
     friction[0].squeezed = friction[1].squeezed = true;
@@ -307,7 +310,7 @@ TEST(DynamicsFriction, SchurComplementOfASinglePrecisionFactorRefinesToTheSameSt
       const DynamicsReport r =
           solve_velocities(model, state, kStep, gravity, handle, friction, outcome, settings);
       EXPECT_TRUE(r.ok) << r.message;
-      EXPECT_LE(r.residual, 5e-8);
+      EXPECT_LE(r.residual, std::max(5e-8, refine_tolerance));
       reached += r.residual <= model.solver.refine_tolerance ? 1 : 0;
       advance_positions(state, kStep);
       refined += outcome.linear_solves > 1 ? 1 : 0;
@@ -322,6 +325,14 @@ TEST(DynamicsFriction, SchurComplementOfASinglePrecisionFactorRefinesToTheSameSt
   EXPECT_GE(reached_single, 95);
   EXPECT_LT((exact - single).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_GT(exact.cwiseAbs().maxCoeff(), 0.01);
+  // Refined only to the 1e-5 pcg is accepted at (the demo scenes' solver.refine_tolerance): the
+  // float factor's 1e-7 to 5e-6 need no round, and the velocities stay within 1e-8 m/s of the
+  // double factor's (measured 5.9e-10).
+  int refined_loose = 0, reached_loose = 0;
+  const Points loose = run(Precision::single_precision, refined_loose, reached_loose, 1e-5);
+  EXPECT_EQ(refined_loose, 0);
+  EXPECT_EQ(reached_loose, 100);
+  EXPECT_LT((exact - loose).cwiseAbs().maxCoeff(), 1e-8);
 }
 
 TEST(DynamicsFriction, SchurComplementAndNewtonAgreeAcrossChangingContactsAndTwoPlanes) {

@@ -31,6 +31,7 @@ TEST(LoadScene, FullSceneHasEveryValue) {
   EXPECT_DOUBLE_EQ(s.collision.thickness, 0.004);
   EXPECT_FALSE(s.collision.self_collision);
   EXPECT_EQ(s.solver.factor_precision, "single");
+  EXPECT_DOUBLE_EQ(s.solver.refine_tolerance, 1e-6);
 
   // Grid cloth with material, transform and two handles.
   ASSERT_EQ(s.cloths.size(), 2u);
@@ -126,6 +127,7 @@ TEST(LoadScene, MinimalSceneGetsDefaults) {
   EXPECT_DOUBLE_EQ(s.collision.thickness, 0.005);
   EXPECT_TRUE(s.collision.self_collision);
   EXPECT_EQ(s.solver.factor_precision, "double");
+  EXPECT_DOUBLE_EQ(s.solver.refine_tolerance, 1e-10);
   EXPECT_TRUE(s.cloths.empty() && s.obstacles.empty() && s.probes.empty());
   EXPECT_TRUE(s.bodies.is_array() && s.bodies.empty());
 }
