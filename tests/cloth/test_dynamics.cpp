@@ -168,12 +168,14 @@ TEST(Dynamics, HangingStripReachesAnalyticElongation) {
     // weight times h (the settled residual motion is < 1e-6 m/s, so 1e-4 relative is ample);
     // nothing else is constrained.
     Vec3 held = Vec3::Zero();
-    for (const VelocityConstraint& c : handles) held += state.constraint_impulse.row(c.vertex).transpose();
+    for (const VelocityConstraint& c : handles)
+      held += state.constraint_impulse.row(c.vertex).transpose();
     const double weight_impulse = model.mass.sum() * g * kStep;
     EXPECT_NEAR(held.y(), weight_impulse, 1e-4 * weight_impulse);
     EXPECT_NEAR(held.x(), 0.0, 1e-4 * weight_impulse);
     double on_handles = 0.0;
-    for (const VelocityConstraint& c : handles) on_handles += state.constraint_impulse.row(c.vertex).cwiseAbs().sum();
+    for (const VelocityConstraint& c : handles)
+      on_handles += state.constraint_impulse.row(c.vertex).cwiseAbs().sum();
     EXPECT_NEAR(state.constraint_impulse.cwiseAbs().sum(), on_handles, 1e-12 * on_handles);
   }
 }
@@ -200,7 +202,8 @@ TEST(Dynamics, EnergyDecaysMonotonicallyUnderDamping) {
 
 TEST(Dynamics, LinearMomentumIsConservedWithoutExternalForces) {
   PerturbedSheet s = perturbed_sheet(11);
-  s.model.solver.linear_solver = LinearSolver::cholesky;  // exact to rounding (PCG: to its tolerance)
+  s.model.solver.linear_solver =
+      LinearSolver::cholesky;  // exact to rounding (PCG: to its tolerance)
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   for (int i = 0; i < s.state.v.rows(); ++i) {
