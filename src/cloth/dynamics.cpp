@@ -72,7 +72,14 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
     }
     d.col_start.push_back(static_cast<int>(d.row.size()));
   }
-  d.cholesky.analyze(n, d.col_start, d.row, threads, precision);
+  // Consecutive unknowns of one vertex are alike (its blocks are dense): analysed as groups.
+  std::vector<int> groups;
+  for (int k = 0; k < n; ++k)
+    if (k == 0 ||
+        dofs[static_cast<std::size_t>(k)] / 3 != dofs[static_cast<std::size_t>(k) - 1] / 3)
+      groups.push_back(k);
+  groups.push_back(n);
+  d.cholesky.analyze(n, d.col_start, d.row, threads, precision, groups);
 }
 
 WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws) {

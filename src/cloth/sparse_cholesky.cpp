@@ -45,14 +45,16 @@ void elimination_tree(int n, std::span<const int> col_start, std::span<const int
   }
 }
 
-/// The off-diagonal count of every column of L, in time close to A's size (Gilbert, Ng &
-/// Peyton 1994, as in Davis's CSparse): row i of L is the row subtree of the etree spanned by
-/// the columns j < i with A(i, j) ≠ 0, and summing, up the tree, +1 at each leaf of a row
-/// subtree and −1 where two of its leaves' paths meet (their least common ancestor, by
-/// path-compressed union–find over a postorder) counts every row subtree that holds a column.
+/// The weighted count of every column of L, diagonal included: Σ weight[i] over the rows i of
+/// column j. In time close to A's size (Gilbert, Ng & Peyton 1994, as in Davis's CSparse): row
+/// i of L is the row subtree of the etree spanned by the columns j < i with A(i, j) ≠ 0, and
+/// summing, up the tree, +weight[i] at each leaf of a row subtree and −weight[i] where two of
+/// its leaves' paths meet (their least common ancestor, by path-compressed union–find over a
+/// postorder) and above i counts every row subtree that holds a column.
 /// `lower_start`/`lower_row`: A's lower pattern by column (rows i ≥ j of column j).
 void column_counts(int n, const std::vector<int>& parent, const std::vector<int>& lower_start,
-                   const std::vector<int>& lower_row, std::vector<int>& count) {
+                   const std::vector<int>& lower_row, const std::vector<int>& weight,
+                   std::vector<int>& count) {
   // A postorder of the etree: children lists, then a depth-first walk from each root.
   std::vector<int> head(at(n), -1), next(at(n), -1), post;
   post.reserve(at(n));
@@ -83,13 +85,13 @@ void column_counts(int n, const std::vector<int>& parent, const std::vector<int>
   delta.assign(at(n), 0);
   for (int k = 0; k < n; ++k) {
     int j = post[at(k)];
-    delta[at(j)] = first[at(j)] == -1 ? 1 : 0;
+    delta[at(j)] = first[at(j)] == -1 ? weight[at(j)] : 0;
     for (; j != -1 && first[at(j)] == -1; j = parent[at(j)]) first[at(j)] = k;
   }
   for (int i = 0; i < n; ++i) ancestor[at(i)] = i;
   for (int k = 0; k < n; ++k) {
     const int j = post[at(k)];
-    if (parent[at(j)] != -1) --delta[at(parent[at(j)])];
+    if (parent[at(j)] != -1) delta[at(parent[at(j)])] -= weight[at(j)];
     for (int p = lower_start[at(j)]; p < lower_start[at(j) + 1]; ++p) {
       const int i = lower_row[at(p)];
       // Is j a leaf of row i's subtree (no earlier column of it below j)?
@@ -97,7 +99,7 @@ void column_counts(int n, const std::vector<int>& parent, const std::vector<int>
       max_first[at(i)] = first[at(j)];
       const int previous = prev_leaf[at(i)];
       prev_leaf[at(i)] = j;
-      ++delta[at(j)];
+      delta[at(j)] += weight[at(i)];
       if (previous == -1) continue;
       // Not the first leaf: the paths of this leaf and the previous one meet at q.
       int q = previous;
@@ -107,13 +109,32 @@ void column_counts(int n, const std::vector<int>& parent, const std::vector<int>
         ancestor[at(s)] = q;
         s = up;
       }
-      --delta[at(q)];
+      delta[at(q)] -= weight[at(i)];
     }
     if (parent[at(j)] != -1) ancestor[at(j)] = parent[at(j)];
   }
   for (int j = 0; j < n; ++j)
     if (parent[at(j)] != -1) count[at(parent[at(j)])] += count[at(j)];
-  for (int j = 0; j < n; ++j) --count[at(j)];  // the diagonal
+}
+
+/// The transpose of a pattern by column (`start`, n + 1, and `index`): `out_start` and
+/// `out_index` by row, each entry's position in `index` in `out_entry`; entries in the order of
+/// their columns.
+void transpose(int n, std::span<const int> start, std::span<const int> index,
+               std::vector<int>& out_start, std::vector<int>& out_index,
+               std::vector<int>& out_entry) {
+  out_start.assign(at(n) + 1, 0);
+  out_index.resize(index.size());
+  out_entry.resize(index.size());
+  for (const int i : index) ++out_start[at(i) + 1];
+  for (int j = 0; j < n; ++j) out_start[at(j) + 1] += out_start[at(j)];
+  std::vector<int> next(out_start.begin(), out_start.end() - 1);
+  for (int j = 0; j < n; ++j)
+    for (int p = start[at(j)]; p < start[at(j) + 1]; ++p) {
+      const int q = next[at(index[at(p)])]++;
+      out_index[at(q)] = j;
+      out_entry[at(q)] = p;
+    }
 }
 
 /// Whether merging supernodes of `columns` columns into one adds few enough explicit zeros:
@@ -127,36 +148,78 @@ bool relaxed_merge_pays(int columns, double zero_share) {
 }  // namespace
 
 void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row,
-                             int threads, Precision precision) {
+                             int threads, Precision precision, std::span<const int> groups) {
   DEXCLOTH_DEMAND(threads >= 1);
   m_precision = precision;
   m_threads = threads;
   DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
   DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
-  for (int j = 0; j < n; ++j)
-    for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p)
-      DEXCLOTH_DEMAND(row[at(p)] >= 0 && row[at(p)] <= j);
+  std::vector<int> single;
+  if (groups.empty()) {
+    single.resize(at(n) + 1);
+    for (int j = 0; j <= n; ++j) single[at(j)] = j;
+    groups = single;
+  }
+  const int ng = static_cast<int>(groups.size()) - 1;
+  DEXCLOTH_DEMAND(ng >= 0 && groups[0] == 0 && groups[at(ng)] == n);
+  std::vector<int> group_of(at(n)), width(at(ng));
+  for (int g = 0; g < ng; ++g) {
+    DEXCLOTH_DEMAND(groups[at(g)] < groups[at(g) + 1]);
+    width[at(g)] = groups[at(g) + 1] - groups[at(g)];
+    for (int j = groups[at(g)]; j < groups[at(g) + 1]; ++j) group_of[at(j)] = g;
+  }
   m_n = n;
   // One BLAS thread: OpenBLAS's threaded kernels allocate on every call, and on fronts of this
   // size (a few hundred rows) two threads were slower than one (a 65×65 sheet: 62 vs 44 ms).
   openblas_set_num_threads(1);
-  std::vector<int> parent, count, mark, position;
-  elimination_tree(n, col_start, row, parent, mark);
-  // A's lower pattern by column (with each entry's index in `row`), for the column counts, the
-  // fronts' rows and the assembly map.
-  std::vector<int> lower_start(at(n) + 1, 0), lower_row(row.size()), lower_entry(row.size());
-  for (std::size_t p = 0; p < row.size(); ++p) ++lower_start[at(row[p]) + 1];
-  for (int j = 0; j < n; ++j) lower_start[at(j) + 1] += lower_start[at(j)];
-  {
-    std::vector<int> next(lower_start.begin(), lower_start.end() - 1);
-    for (int j = 0; j < n; ++j)
+
+  // The groups' upper pattern (group g: the groups h < g with entries in its columns), checked:
+  // every column j of g holds exactly the rows of those groups and g's own rows up to j, each
+  // once. So the groups stay alike through the elimination (indistinguishable unknowns), a
+  // chain in the elimination tree and within one supernode, and the analysis of the groups'
+  // pattern, spread over their unknowns, is the analysis of A's.
+  std::vector<int> group_start(1, 0), group_row, mark(at(ng), -1), seen(at(n), -1);
+  for (int g = 0; g < ng; ++g) {
+    const int a = groups[at(g)], b = groups[at(g) + 1];
+    int outside = 0;  // unknowns of the groups before g in its columns
+    for (int p = col_start[at(b - 1)]; p < col_start[at(b)]; ++p) {
+      const int i = row[at(p)];
+      DEXCLOTH_DEMAND(i >= 0 && i <= b - 1);
+      if (i >= a || mark[at(group_of[at(i)])] == g) continue;
+      mark[at(group_of[at(i)])] = g;
+      group_row.push_back(group_of[at(i)]);
+      outside += width[at(group_of[at(i)])];
+    }
+    group_start.push_back(static_cast<int>(group_row.size()));
+    for (int j = a; j < b; ++j) {
       for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p) {
-        const int q = next[at(row[at(p)])]++;
-        lower_row[at(q)] = j;
-        lower_entry[at(q)] = p;
+        const int i = row[at(p)];
+        DEXCLOTH_DEMAND(i >= 0 && i <= j && seen[at(i)] != j &&
+                        (i >= a || mark[at(group_of[at(i)])] == g));
+        seen[at(i)] = j;
       }
+      DEXCLOTH_DEMAND(col_start[at(j) + 1] - col_start[at(j)] == outside + j - a + 1);
+    }
   }
-  column_counts(n, parent, lower_start, lower_row, count);
+  // Transposed (the groups after each one with entries in its rows), for the column counts
+  // and the fronts' rows.
+  std::vector<int> group_lower_start, group_lower_row, group_entry;
+  transpose(ng, group_start, group_row, group_lower_start, group_lower_row, group_entry);
+
+  // The elimination tree and L's column counts of the groups, spread over their unknowns: each
+  // group a chain whose last unknown's parent is the parent group's first; the columns of a
+  // group of w unknowns, the last group count less 1, …, w.
+  std::vector<int> group_parent, group_count;
+  elimination_tree(ng, group_start, group_row, group_parent, mark);
+  column_counts(ng, group_parent, group_lower_start, group_lower_row, width, group_count);
+  std::vector<int> parent(at(n)), count(at(n));
+  for (int g = 0; g < ng; ++g)
+    for (int j = groups[at(g)]; j < groups[at(g) + 1]; ++j) {
+      parent[at(j)] = j + 1 < groups[at(g) + 1] ? j + 1
+                      : group_parent[at(g)] < 0 ? -1
+                                                : groups[at(group_parent[at(g)])];
+      count[at(j)] = group_count[at(g)] - 1 - (j - groups[at(g)]);
+    }
 
   // Fundamental supernodes: j joins j − 1 when it is j − 1's parent, its only child, and L's
   // column j is column j − 1 without its diagonal.
@@ -219,32 +282,43 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
   }
 
   // Front rows: a supernode's columns, then (increasing) the rows below them of its columns of
-  // A and of its children's fronts.
+  // A and of its children's fronts; found by groups (a supernode's columns are whole groups,
+  // the rows below them too), then spread over the groups' unknowns.
+  std::vector<int> front_start(1, 0), front_group;  // each front's groups below its columns
   m_row_start.assign(1, 0);
   m_rows.clear();
-  mark.assign(at(n), -1);
+  mark.assign(at(ng), -1);
   for (int s = 0; s < ns; ++s) {
     const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1];
-    for (int j = k1; j < k2; ++j) m_rows.push_back(j);
-    const std::size_t below = m_rows.size();
-    const auto add = [&](int i) {
-      if (i >= k2 && mark[at(i)] != s) {
-        mark[at(i)] = s;
-        m_rows.push_back(i);
+    const int g1 = group_of[at(k1)], g2 = k2 < n ? group_of[at(k2)] : ng;
+    DEXCLOTH_DEMAND(groups[at(g1)] == k1 && groups[at(g2)] == k2);
+    const std::size_t below = front_group.size();
+    const auto add = [&](int h) {
+      if (h >= g2 && mark[at(h)] != s) {
+        mark[at(h)] = s;
+        front_group.push_back(h);
       }
     };
-    for (int j = k1; j < k2; ++j)
-      for (int q = lower_start[at(j)]; q < lower_start[at(j) + 1]; ++q) add(lower_row[at(q)]);
+    for (int g = g1; g < g2; ++g)
+      for (int q = group_lower_start[at(g)]; q < group_lower_start[at(g) + 1]; ++q)
+        add(group_lower_row[at(q)]);
     for (int c = m_child_start[at(s)]; c < m_child_start[at(s) + 1]; ++c) {
       const int child = m_children[at(c)];
-      const int cw = m_first[at(child) + 1] - m_first[at(child)];
-      for (int r = m_row_start[at(child)] + cw; r < m_row_start[at(child) + 1]; ++r)
-        add(m_rows[at(r)]);
+      for (int r = front_start[at(child)]; r < front_start[at(child) + 1]; ++r)
+        add(front_group[at(r)]);
     }
-    std::sort(m_rows.begin() + static_cast<std::ptrdiff_t>(below), m_rows.end());
+    std::sort(front_group.begin() + static_cast<std::ptrdiff_t>(below), front_group.end());
+    front_start.push_back(static_cast<int>(front_group.size()));
+    for (int j = k1; j < k2; ++j) m_rows.push_back(j);
+    for (std::size_t r = below; r < front_group.size(); ++r)
+      for (int j = groups[at(front_group[r])]; j < groups[at(front_group[r]) + 1]; ++j)
+        m_rows.push_back(j);
     m_row_start.push_back(static_cast<int>(m_rows.size()));
   }
 
+  // A's lower pattern by column (with each entry's index in `row`), for the assembly map.
+  std::vector<int> lower_start, lower_row, lower_entry, position;
+  transpose(n, col_start, row, lower_start, lower_row, lower_entry);
   // Panels, the positions of each child's rows below its columns in its parent's front, and
   // where each value of A lands (grouped by supernode, in A's order within one).
   m_panel_start.assign(1, 0);

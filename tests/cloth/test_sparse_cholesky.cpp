@@ -119,6 +119,103 @@ TEST(SparseCholesky, AFactorisationGatheringItsValuesIsBitwiseTheSame) {
   }
 }
 
+namespace {
+
+/// A block pattern like a cloth's: a grid of vertices joined to their eight neighbours, each
+/// with 1 to 3 unknowns, every fifth split in two parts (as a friction vertex's unknowns are:
+/// the slip coordinates after every other one), the parts in a shuffled order. Returns the
+/// scalar pattern and values (SPD), the parts' starts (groups) and each unknown's vertex.
+struct BlockSystem {
+  int n = 0;
+  Upper u;
+  Eigen::MatrixXd A;
+  std::vector<int> groups{0}, vertex_of;
+};
+
+BlockSystem block_system(int side, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  std::uniform_int_distribution<int> width(1, 3);
+  const int nv = side * side;
+  std::vector<std::pair<int, int>> parts;  // (vertex, unknowns)
+  for (int v = 0; v < nv; ++v) {
+    const int w = width(rng);
+    if (v % 5 == 0 && w > 1) {
+      parts.emplace_back(v, 1);
+      parts.emplace_back(v, w - 1);
+    } else {
+      parts.emplace_back(v, w);
+    }
+  }
+  std::shuffle(parts.begin(), parts.end(), rng);
+  BlockSystem s;
+  for (const auto& [v, w] : parts) {
+    for (int k = 0; k < w; ++k) s.vertex_of.push_back(v);
+    s.groups.push_back(static_cast<int>(s.vertex_of.size()));
+  }
+  s.n = static_cast<int>(s.vertex_of.size());
+  const auto adjacent = [&](int a, int b) {
+    return std::abs(a % side - b % side) <= 1 && std::abs(a / side - b / side) <= 1;
+  };
+  Eigen::MatrixXi pattern = Eigen::MatrixXi::Zero(s.n, s.n);
+  s.A = Eigen::MatrixXd::Zero(s.n, s.n);
+  for (int i = 0; i < s.n; ++i)
+    for (int j = i + 1; j < s.n; ++j)
+      if (adjacent(s.vertex_of[static_cast<std::size_t>(i)],
+                   s.vertex_of[static_cast<std::size_t>(j)])) {
+        pattern(i, j) = pattern(j, i) = 1;
+        s.A(i, j) = s.A(j, i) = uni(rng);
+      }
+  for (int i = 0; i < s.n; ++i) {
+    pattern(i, i) = 1;
+    s.A(i, i) = s.A.row(i).cwiseAbs().sum() + 0.1;
+  }
+  s.u = compress_upper(s.A, pattern);
+  return s;
+}
+
+}  // namespace
+
+TEST(SparseCholesky, AnalysedByGroupsOfAlikeUnknownsTheFactorIsBitwiseTheSame) {
+  // The analysis of the groups' pattern must find the same supernodes, fronts and schedule as
+  // that of the unknowns: the same factor and solution, bitwise, on one or two threads.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int trial = 0; trial < 3; ++trial) {
+    const BlockSystem s = block_system(14, rng);
+    ASSERT_LT(s.groups.size(), static_cast<std::size_t>(s.n));  // some groups hold several
+    const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(s.n, [&] { return uni(rng); });
+    for (int threads : {1, 2}) {
+      SparseCholesky by_unknown, by_group;
+      by_unknown.analyze(s.n, s.u.col_start, s.u.row, threads);
+      by_group.analyze(s.n, s.u.col_start, s.u.row, threads, Precision::double_precision, s.groups);
+      EXPECT_EQ(by_group.supernodes(), by_unknown.supernodes());
+      EXPECT_EQ(by_group.factor_nonzeros(), by_unknown.factor_nonzeros());
+      EXPECT_EQ(by_group.factor_flops(), by_unknown.factor_flops());
+      EXPECT_EQ(by_group.parallel_share(), by_unknown.parallel_share());
+      ASSERT_EQ(by_unknown.factorize(s.u.value), -1);
+      ASSERT_EQ(by_group.factorize(s.u.value), -1);
+      Eigen::VectorXd x = b, y = b;
+      by_unknown.solve_in_place(std::span<double>(x.data(), static_cast<std::size_t>(s.n)));
+      by_group.solve_in_place(std::span<double>(y.data(), static_cast<std::size_t>(s.n)));
+      EXPECT_TRUE(x == y) << "trial " << trial << ", " << threads << " threads";
+      EXPECT_LE((s.A * y - b).norm(), 1e-12 * b.norm());
+    }
+  }
+}
+
+TEST(SparseCholeskyDeathTest, GroupsWhoseUnknownsAreNotAlikeAreRefused) {
+  // Unknowns 0 and 1 as one group, but only unknown 1 is coupled to unknown 2.
+  const std::vector<int> col_start{0, 1, 3, 5}, row{0, 0, 1, 1, 2};
+  const std::vector<int> groups{0, 2, 3};
+  SparseCholesky chol;
+  EXPECT_DEATH(chol.analyze(3, col_start, row, 1, Precision::double_precision, groups),
+               "internal error");
+  // Alike once unknown 0 is coupled to 2 as well.
+  const std::vector<int> alike_start{0, 1, 3, 6}, alike_row{0, 0, 1, 0, 1, 2};
+  chol.analyze(3, alike_start, alike_row, 1, Precision::double_precision, groups);
+  EXPECT_EQ(chol.supernodes(), 1);
+}
+
 TEST(SparseCholesky, ReportsTheFirstNonPositivePivot) {
   // [[1, 2], [2, 1]] is indefinite: its second pivot is 1 − 4 < 0.
   SparseCholesky chol;
