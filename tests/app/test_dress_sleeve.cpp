@@ -32,15 +32,19 @@ TEST(DressSleeve, TheGripperPullsTheSleeveUpTheArmByFriction) {
 }
 
 TEST(DressSleeve, FrictionlessJawsSlideAlongTheLoopAndLeaveTheSleeve) {
-  // μ = 0 on the gripper: nothing but friction carries the sleeve, so it stays where it is and
-  // the jaws slide 15 cm along it (measured 15.5 cm; μ = 0.1 already holds, 1 mm). Over ten
-  // starts (5 Dec: this one with four BLAS kernel choices, OPENBLAS_CORETYPE; six shifted 0.5–1
-  // mm) the top moved 0.4–9.5 mm and the jaws 14.3–20.0 cm along the loop.
+  // μ = 0 on the gripper: no friction carries the sleeve, so it stays behind and the jaws slide
+  // along it (measured 15.5 cm; μ = 0.1 already holds, 1 mm). Over ten starts (5 Dec: this one
+  // with four BLAS kernel choices, OPENBLAS_CORETYPE; six shifted 0.5–1 mm) the top moved
+  // 0.4–9.5 mm and the jaws 14.3–20.0 cm along the loop. With OpenBLAS's SkylakeX kernels (an
+  // AVX-512 machine's default, 7 Dec) the loop's end caught on a jaw's leading face, which
+  // pushed it 5 cm along before it slipped off: the top moved 4.1 cm, the jaws 10.4 cm along
+  // the loop, with no tangential force at the jaws' contacts (at most 0.03 N, once). Normal
+  // forces can push a sleeve; the 13–15 cm that friction carries it, they do not.
   const CliRun r = run("dress_sleeve_frictionless", "--set /bodies/0/friction=0");
   expect_intact(r.summary);
   EXPECT_GT(relative_motion(r.summary, "gripped", "jaw", 1.4, 3.4), 0.1);
   EXPECT_LT(std::abs(probe_at(r.summary, "top", 3.4)[0] - probe_at(r.summary, "top", 1.4)[0]),
-            0.02);
+            0.06);
 }
 
 TEST(DressSleeve, TheKinematicJawsPullTheSleeveToo) {
