@@ -1,6 +1,7 @@
 #include "cloth/dynamics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -46,40 +47,44 @@ void analyse_unknowns(const SystemPattern& p, std::span<const int> dofs, int thr
   DEXCLOTH_DEMAND(dofs.size() == static_cast<std::size_t>(n));
   d.order.clear();
   d.dof.assign(dofs.begin(), dofs.end());
-  std::vector<int> new_of(static_cast<std::size_t>(n), -1);
+  // Groups: runs of a vertex's unknowns in increasing coordinate order (all three, or a
+  // friction vertex's other coordinates and, later, its slip ones). Each group's vertex and
+  // first coordinate, and each vertex's groups in order.
+  std::vector<int> groups, group_vertex, group_coordinate;
+  std::vector<std::array<int, 3>> vertex_groups(static_cast<std::size_t>(p.num_vertices),
+                                                {-1, -1, -1});
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
   for (int k = 0; k < n; ++k) {
     const int u = dofs[static_cast<std::size_t>(k)];
-    DEXCLOTH_DEMAND(u >= 0 && u < n && new_of[static_cast<std::size_t>(u)] < 0);  // a permutation
-    new_of[static_cast<std::size_t>(u)] = k;
+    DEXCLOTH_DEMAND(u >= 0 && u < n && !seen[static_cast<std::size_t>(u)]);  // a permutation
+    seen[static_cast<std::size_t>(u)] = 1;
+    if (k > 0 && u == dofs[static_cast<std::size_t>(k) - 1] + 1 && u % 3 != 0) continue;
+    std::array<int, 3>& own = vertex_groups[static_cast<std::size_t>(u / 3)];
+    *std::find(own.begin(), own.end(), -1) = static_cast<int>(groups.size());
+    groups.push_back(k);
+    group_vertex.push_back(u / 3);
+    group_coordinate.push_back(u % 3);
   }
-
-  // Scalar column k, unknown c of vertex j: the rows of its blocks' entries eliminated no later
-  // (the upper triangle), in any order (the factorisation does not need them sorted).
-  d.col_start.assign(1, 0);
-  d.row.clear();
-  d.source.clear();
-  for (int k = 0; k < n; ++k) {
-    const int j = dofs[static_cast<std::size_t>(k)] / 3, c = dofs[static_cast<std::size_t>(k)] % 3;
+  groups.push_back(n);
+  // The blocks of group g (vertex j): for each block (i, j) of the pattern, one per group h ≤ g
+  // of vertex i, its values at 9b + 3·(g's first coordinate) + (h's), columns 3 apart (Mat3 is
+  // column-major).
+  std::vector<int> block_start(1, 0), block_row, block_source;
+  for (std::size_t g = 0; g + 1 < groups.size(); ++g) {
+    const int j = group_vertex[g];
     for (int b = p.col_start[static_cast<std::size_t>(j)];
          b < p.col_start[static_cast<std::size_t>(j) + 1]; ++b) {
-      const int i = p.row[static_cast<std::size_t>(b)];
-      for (int r = 0; r < 3; ++r) {
-        const int q = new_of[static_cast<std::size_t>(3 * i + r)];
-        if (q > k) continue;
-        d.row.push_back(q);
-        d.source.push_back(9 * b + 3 * c + r);  // Mat3 is column-major
+      for (const int h :
+           vertex_groups[static_cast<std::size_t>(p.row[static_cast<std::size_t>(b)])]) {
+        if (h < 0 || h > static_cast<int>(g)) continue;
+        block_row.push_back(h);
+        block_source.push_back(9 * b + 3 * group_coordinate[g] +
+                               group_coordinate[static_cast<std::size_t>(h)]);
       }
     }
-    d.col_start.push_back(static_cast<int>(d.row.size()));
+    block_start.push_back(static_cast<int>(block_row.size()));
   }
-  // Consecutive unknowns of one vertex are alike (its blocks are dense): analysed as groups.
-  std::vector<int> groups;
-  for (int k = 0; k < n; ++k)
-    if (k == 0 ||
-        dofs[static_cast<std::size_t>(k)] / 3 != dofs[static_cast<std::size_t>(k) - 1] / 3)
-      groups.push_back(k);
-  groups.push_back(n);
-  d.cholesky.analyze(n, d.col_start, d.row, threads, precision, groups);
+  d.cholesky.analyze_blocks(groups, block_start, block_row, block_source, 3, threads, precision);
 }
 
 WorkerPool* solver_pool(int threads, DynamicsWorkspace& ws) {
@@ -91,7 +96,7 @@ DynamicsReport factorise(const std::vector<Mat3>& blocks, DirectSystem& d, Worke
   report.iterations = 1;
   d.cholesky.lend_pool(pool);
   const std::span<const double> base(blocks.data()->data(), 9 * blocks.size());
-  if (const int col = d.cholesky.factorize(base, d.source); col >= 0) {
+  if (const int col = d.cholesky.factorize(base); col >= 0) {
     report.ok = false;
     report.message = "Cholesky pivot not positive at unknown " +
                      std::to_string(d.dof[static_cast<std::size_t>(col)]) +

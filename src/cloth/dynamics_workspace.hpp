@@ -16,9 +16,6 @@ namespace dexcloth::cloth {
 /// vertices (or of the scalar unknowns), and the factorisation.
 struct DirectSystem {
   std::vector<int> order;      ///< vertex eliminated k-th (empty before a first analysis by vertex)
-  std::vector<int> col_start;  ///< 3|V|+1
-  std::vector<int> row;        ///< permuted row of each stored entry
-  std::vector<int> source;     ///< offset of each stored entry in the blocks (as doubles)
   std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
   SparseCholesky cholesky;
 };

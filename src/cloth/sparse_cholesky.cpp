@@ -147,63 +147,128 @@ bool relaxed_merge_pays(int columns, double zero_share) {
 
 }  // namespace
 
-void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row,
-                             int threads, Precision precision, std::span<const int> groups) {
+void SparseCholesky::begin_analysis(int threads, Precision precision) {
   DEXCLOTH_DEMAND(threads >= 1);
   m_precision = precision;
   m_threads = threads;
-  DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
-  DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
-  std::vector<int> single;
-  if (groups.empty()) {
-    single.resize(at(n) + 1);
-    for (int j = 0; j <= n; ++j) single[at(j)] = j;
-    groups = single;
-  }
-  const int ng = static_cast<int>(groups.size()) - 1;
-  DEXCLOTH_DEMAND(ng >= 0 && groups[0] == 0 && groups[at(ng)] == n);
-  std::vector<int> group_of(at(n)), width(at(ng));
-  for (int g = 0; g < ng; ++g) {
-    DEXCLOTH_DEMAND(groups[at(g)] < groups[at(g) + 1]);
-    width[at(g)] = groups[at(g) + 1] - groups[at(g)];
-    for (int j = groups[at(g)]; j < groups[at(g) + 1]; ++j) group_of[at(j)] = g;
-  }
-  m_n = n;
   // One BLAS thread: OpenBLAS's threaded kernels allocate on every call, and on fronts of this
   // size (a few hundred rows) two threads were slower than one (a 65×65 sheet: 62 vs 44 ms).
   openblas_set_num_threads(1);
+}
 
-  // The groups' upper pattern (group g: the groups h < g with entries in its columns), checked:
-  // every column j of g holds exactly the rows of those groups and g's own rows up to j, each
-  // once. So the groups stay alike through the elimination (indistinguishable unknowns), a
-  // chain in the elimination tree and within one supernode, and the analysis of the groups'
-  // pattern, spread over their unknowns, is the analysis of A's.
-  std::vector<int> group_start(1, 0), group_row, mark(at(ng), -1), seen(at(n), -1);
-  for (int g = 0; g < ng; ++g) {
-    const int a = groups[at(g)], b = groups[at(g) + 1];
-    int outside = 0;  // unknowns of the groups before g in its columns
-    for (int p = col_start[at(b - 1)]; p < col_start[at(b)]; ++p) {
-      const int i = row[at(p)];
-      DEXCLOTH_DEMAND(i >= 0 && i <= b - 1);
-      if (i >= a || mark[at(group_of[at(i)])] == g) continue;
-      mark[at(group_of[at(i)])] = g;
-      group_row.push_back(group_of[at(i)]);
-      outside += width[at(group_of[at(i)])];
+void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<const int> row,
+                             int threads, Precision precision) {
+  begin_analysis(threads, precision);
+  DEXCLOTH_DEMAND(n >= 0 && col_start.size() == at(n) + 1 && col_start[0] == 0);
+  DEXCLOTH_DEMAND(row.size() == at(col_start[at(n)]));
+  // Every unknown a group of its own; the groups' pattern is A's above the diagonal.
+  std::vector<int> groups(at(n) + 1), group_start(1, 0), group_row;
+  group_row.reserve(row.size());
+  for (int j = 0; j <= n; ++j) groups[at(j)] = j;
+  for (int j = 0; j < n; ++j) {
+    for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p) {
+      DEXCLOTH_DEMAND(row[at(p)] >= 0 && row[at(p)] <= j);
+      if (row[at(p)] < j) group_row.push_back(row[at(p)]);
     }
     group_start.push_back(static_cast<int>(group_row.size()));
-    for (int j = a; j < b; ++j) {
-      for (int p = col_start[at(j)]; p < col_start[at(j) + 1]; ++p) {
-        const int i = row[at(p)];
-        DEXCLOTH_DEMAND(i >= 0 && i <= j && seen[at(i)] != j &&
-                        (i >= a || mark[at(group_of[at(i)])] == g));
-        seen[at(i)] = j;
+  }
+  analyze_groups(groups, group_start, group_row);
+
+  // Where each value of A lands (grouped by supernode, in A's order within one): from A's lower
+  // pattern by column (with each entry's index in `row`).
+  std::vector<int> lower_start, lower_row, lower_entry, position(at(n), -1);
+  transpose(n, col_start, row, lower_start, lower_row, lower_entry);
+  m_column_stride = 0;
+  m_blocks.clear();
+  m_entry_start.assign(1, 0);
+  m_entries.clear();
+  for (int s = 0; s < supernodes(); ++s) {
+    const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1];
+    const int f = m_row_start[at(s) + 1] - m_row_start[at(s)];
+    for (int r = 0; r < f; ++r) position[at(m_rows[at(m_row_start[at(s)] + r)])] = r;
+    for (int j = k1; j < k2; ++j)
+      for (int q = lower_start[at(j)]; q < lower_start[at(j) + 1]; ++q)
+        m_entries.push_back(
+            {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
+    m_entry_start.push_back(m_entries.size());
+  }
+  m_values = row.size();
+}
+
+void SparseCholesky::analyze_blocks(std::span<const int> groups, std::span<const int> block_start,
+                                    std::span<const int> block_row,
+                                    std::span<const int> block_source, int column_stride,
+                                    int threads, Precision precision) {
+  begin_analysis(threads, precision);
+  const int ng = static_cast<int>(groups.size()) - 1;
+  DEXCLOTH_DEMAND(ng >= 0 && groups[0] == 0 && block_start.size() == groups.size() &&
+                  block_start[0] == 0 && block_row.size() == at(block_start[at(ng)]) &&
+                  block_source.size() == block_row.size() && column_stride > 0);
+  // The groups' pattern: the blocks above the diagonal. Each column has its diagonal block and
+  // no block twice.
+  std::vector<int> group_start(1, 0), group_row, mark(at(ng), -1);
+  group_row.reserve(block_row.size());
+  for (int g = 0; g < ng; ++g) {
+    DEXCLOTH_DEMAND(groups[at(g)] < groups[at(g) + 1]);
+    bool diagonal = false;
+    for (int q = block_start[at(g)]; q < block_start[at(g) + 1]; ++q) {
+      const int h = block_row[at(q)];
+      DEXCLOTH_DEMAND(h >= 0 && h <= g && mark[at(h)] != g && block_source[at(q)] >= 0);
+      mark[at(h)] = g;
+      if (h < g) {
+        group_row.push_back(h);
+      } else {
+        diagonal = true;
       }
-      DEXCLOTH_DEMAND(col_start[at(j) + 1] - col_start[at(j)] == outside + j - a + 1);
     }
+    DEXCLOTH_DEMAND(diagonal);
+    group_start.push_back(static_cast<int>(group_row.size()));
+  }
+  analyze_groups(groups, group_start, group_row);
+
+  // Where each block lands: block (h, g) of A, h ≤ g, is the rows of g's unknowns in the
+  // columns of h's, a dense piece of the panel of h's supernode, its rows consecutive there.
+  std::vector<int> lower_start, lower_row, lower_entry, position(at(m_n), -1);
+  transpose(ng, block_start, block_row, lower_start, lower_row, lower_entry);
+  m_column_stride = column_stride;
+  m_entries.clear();
+  m_entry_start.assign(1, 0);
+  m_blocks.clear();
+  int most = 0;  // the largest value offset read
+  for (int s = 0; s < supernodes(); ++s) {
+    const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1];
+    const int f = m_row_start[at(s) + 1] - m_row_start[at(s)];
+    for (int r = 0; r < f; ++r) position[at(m_rows[at(m_row_start[at(s)] + r)])] = r;
+    for (int h = m_group_of[at(k1)]; h < ng && groups[at(h)] < k2; ++h)
+      for (int q = lower_start[at(h)]; q < lower_start[at(h) + 1]; ++q) {
+        const int g = lower_row[at(q)], source = block_source[at(lower_entry[at(q)])];
+        const int columns = groups[at(h) + 1] - groups[at(h)];
+        const int rows = groups[at(g) + 1] - groups[at(g)];
+        m_blocks.push_back({at(groups[at(h)] - k1) * at(f) + at(position[at(groups[at(g)])]),
+                            source, columns, rows, g == h});
+        most = std::max(most, source + (rows - 1) * column_stride + columns - 1);
+      }
+    m_entry_start.push_back(m_blocks.size());
+  }
+  m_values = at(most) + 1;
+}
+
+void SparseCholesky::analyze_groups(std::span<const int> groups,
+                                    const std::vector<int>& group_start,
+                                    const std::vector<int>& group_row) {
+  const int ng = static_cast<int>(groups.size()) - 1;
+  const int n = groups[at(ng)];
+  m_n = n;
+  std::vector<int>& group_of = m_group_of;
+  std::vector<int> width(at(ng));
+  group_of.resize(at(n));
+  for (int g = 0; g < ng; ++g) {
+    width[at(g)] = groups[at(g) + 1] - groups[at(g)];
+    for (int j = groups[at(g)]; j < groups[at(g) + 1]; ++j) group_of[at(j)] = g;
   }
   // Transposed (the groups after each one with entries in its rows), for the column counts
   // and the fronts' rows.
-  std::vector<int> group_lower_start, group_lower_row, group_entry;
+  std::vector<int> group_lower_start, group_lower_row, group_entry, mark;
   transpose(ng, group_start, group_row, group_lower_start, group_lower_row, group_entry);
 
   // The elimination tree and L's column counts of the groups, spread over their unknowns: each
@@ -316,21 +381,15 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
     m_row_start.push_back(static_cast<int>(m_rows.size()));
   }
 
-  // A's lower pattern by column (with each entry's index in `row`), for the assembly map.
-  std::vector<int> lower_start, lower_row, lower_entry, position;
-  transpose(n, col_start, row, lower_start, lower_row, lower_entry);
-  // Panels, the positions of each child's rows below its columns in its parent's front, and
-  // where each value of A lands (grouped by supernode, in A's order within one).
+  // Panels, and the positions of each child's rows below its columns in its parent's front.
   m_panel_start.assign(1, 0);
   m_unused_upper = 0;
   m_flops = 0.0;
-  position.assign(at(n), -1);
+  std::vector<int> position(at(n), -1);
   m_relmap.assign(m_rows.size(), -1);
-  m_entry_start.assign(1, 0);
-  m_entries.clear();
   std::vector<double> work(at(ns), 0.0);  // flops of each front
   for (int s = 0; s < ns; ++s) {
-    const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1], w = k2 - k1;
+    const int w = m_first[at(s) + 1] - m_first[at(s)];
     const int f = m_row_start[at(s) + 1] - m_row_start[at(s)], b = f - w;
     m_panel_start.push_back(m_panel_start.back() + at(f) * at(w));
     m_unused_upper += at(w) * at(w - 1) / 2;
@@ -344,11 +403,6 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
       for (int r = m_row_start[at(child)] + cw; r < m_row_start[at(child) + 1]; ++r)
         m_relmap[at(r)] = position[at(m_rows[at(r)])];
     }
-    for (int j = k1; j < k2; ++j)
-      for (int q = lower_start[at(j)]; q < lower_start[at(j) + 1]; ++q)
-        m_entries.push_back(
-            {lower_entry[at(q)], at(j - k1) * at(f) + at(position[at(lower_row[at(q)])])});
-    m_entry_start.push_back(m_entries.size());
   }
   schedule(sparent, work);
 }
@@ -554,7 +608,25 @@ int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<
   // (Of the update matrices only the lower triangles are written and read.)
   std::fill(P, P + at(f) * at(w), T{0});
   for (int q = 0; q < b; ++q) std::fill(U + at(q) * at(b) + at(q), U + at(q + 1) * at(b), T{0});
-  if (source.empty()) {
+  if (m_column_stride > 0) {
+    const std::size_t stride = at(m_column_stride);
+    for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k) {
+      const Block& block = m_blocks[k];
+      const double* values = base.data() + block.source;
+      T* dest = P + block.offset;
+      if (block.columns == 3 && block.rows == 3 && !block.diagonal) {  // most blocks
+        for (std::size_t a = 0; a < 3; ++a, dest += f, ++values) {
+          dest[0] += static_cast<T>(values[0]);
+          dest[1] += static_cast<T>(values[stride]);
+          dest[2] += static_cast<T>(values[2 * stride]);
+        }
+        continue;
+      }
+      for (int a = 0; a < block.columns; ++a)
+        for (int r = block.diagonal ? a : 0; r < block.rows; ++r)
+          dest[at(a) * at(f) + at(r)] += static_cast<T>(values[at(a) + stride * at(r)]);
+    }
+  } else if (source.empty()) {
     for (std::size_t k = m_entry_start[at(s)]; k < m_entry_start[at(s) + 1]; ++k)
       P[m_entries[k].offset] += static_cast<T>(base[at(m_entries[k].entry)]);
   } else {
@@ -591,8 +663,9 @@ int SparseCholesky::factor_front(int s, std::span<const double> base, std::span<
 int SparseCholesky::factorize(std::span<const double> values) { return factorize(values, {}); }
 
 int SparseCholesky::factorize(std::span<const double> base, std::span<const int> source) {
-  DEXCLOTH_DEMAND(source.empty() ? base.size() == m_entries.size()
-                                 : source.size() == m_entries.size());
+  DEXCLOTH_DEMAND(source.empty()
+                      ? (m_column_stride > 0 ? base.size() >= m_values : base.size() == m_values)
+                      : m_column_stride == 0 && source.size() == m_values);
   return m_precision == Precision::single_precision ? factorize_in<float>(base, source)
                                                     : factorize_in<double>(base, source);
 }

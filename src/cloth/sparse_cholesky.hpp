@@ -26,16 +26,23 @@ class SparseCholesky {
  public:
   /// Symbolic analysis of an n×n pattern given by its upper triangle (diagonal included) in
   /// compressed-column form: `col_start` (n+1) and `row` (one entry per stored value, row ≤
-  /// column, any order within a column, no entry twice). The unknowns are eliminated in their
-  /// given order. Factorisations run on `threads` threads: independent subtrees of the
-  /// elimination tree in parallel, the top serially; the factor is bitwise the same for any
-  /// thread count. `groups` (optional, G + 1 increasing starts from 0 to n) names runs of
-  /// consecutive unknowns alike in A, a dense diagonal block each whose columns hold the same
-  /// rows before it (a cloth vertex's three velocities); the analysis then runs on the groups'
-  /// pattern, a ninth of A's for groups of three, with the same result. Checked.
+  /// column, any order within a column). The unknowns are eliminated in their given order.
+  /// Factorisations run on `threads` threads: independent subtrees of the elimination tree in
+  /// parallel, the top serially; the factor is bitwise the same for any thread count.
   void analyze(int n, std::span<const int> col_start, std::span<const int> row, int threads = 1,
-               Precision precision = Precision::double_precision,
-               std::span<const int> groups = {});
+               Precision precision = Precision::double_precision);
+  /// The same for a pattern of dense blocks between groups of consecutive unknowns (a cloth
+  /// vertex's velocities): `groups` (G + 1 increasing starts, from 0), the blocks above and on
+  /// the diagonal by column (`block_start`, G + 1, and `block_row`: for group g the groups
+  /// h ≤ g with a block A(h, g), g itself included, each once), and where each block's values
+  /// lie in the array factorize reads: A(h₀ + a, g₀ + k) = values[block_source[q] + a +
+  /// column_stride·k] for block q (only a ≤ k on the diagonal). The analysis runs on the
+  /// groups' pattern and the factorisation gathers A by blocks; the factor is bitwise the one
+  /// `analyze` gives for the same pattern.
+  void analyze_blocks(std::span<const int> groups, std::span<const int> block_start,
+                      std::span<const int> block_row, std::span<const int> block_source,
+                      int column_stride, int threads = 1,
+                      Precision precision = Precision::double_precision);
   /// Runs the factorisations and solves that follow on `pool` (the caller's, with the analysed
   /// number of threads; it must outlive them or be replaced) instead of a pool of this object's
   /// own, created when first needed; null or another size: the own one. A caller whose pool
@@ -43,11 +50,12 @@ class SparseCholesky {
   void lend_pool(WorkerPool* pool) { m_lent_pool = pool; }
   Precision precision() const { return m_precision; }
 
-  /// Numeric factorisation with `values` aligned with the analysed `row`. Returns −1 on
-  /// success, else the first column whose pivot is not positive and finite.
+  /// Numeric factorisation with `values` aligned with the analysed `row` (by `analyze`) or
+  /// read through the blocks' sources (by `analyze_blocks`). Returns −1 on success, else the
+  /// first column whose pivot is not positive and finite.
   int factorize(std::span<const double> values);
   /// The same with value k of A read as base[source[k]] (`source` aligned with the analysed
-  /// `row`): the gather runs inside the fronts, on their threads.
+  /// `row`; not after `analyze_blocks`): the gather runs inside the fronts, on their threads.
   int factorize(std::span<const double> base, std::span<const int> source);
 
   /// Solves A·x = b in place (`b` of size n holds x on return). Requires a successful factorize.
@@ -85,12 +93,22 @@ class SparseCholesky {
   std::size_t m_unused_upper{};  // entries above the diagonal of the panels' pivot blocks
   double m_flops{};
   double m_parallel_share{1.0};
+  /// The analysis's settings (both analyses).
+  void begin_analysis(int threads, Precision precision);
+  /// The analysis shared by both, up to the schedule: the elimination tree and column counts of
+  /// the groups' pattern (`group_start`, `group_row`: for group g the groups h < g with entries
+  /// in its columns) spread over their unknowns, the supernodes, fronts and schedule. A group's
+  /// unknowns are alike (a dense block of A, the same rows before it): they stay alike through
+  /// the elimination, a chain of the elimination tree within one supernode, so the analysis of
+  /// the groups' pattern is that of A's.
+  void analyze_groups(std::span<const int> groups, const std::vector<int>& group_start,
+                      const std::vector<int>& group_row);
   /// Builds the multifrontal schedule (see the members below) from the supernodal tree
   /// (`sparent`, −1 for roots) and each front's flops.
   void schedule(const std::vector<int>& sparent, const std::vector<double>& work);
   /// Assembles and partially factorises supernode s's front (its update matrix built in place
-  /// on the stack), A's value k being base[k], or base[source[k]] when `source` is not empty;
-  /// returns −1, or the column of a failed pivot.
+  /// on the stack), A's value k being base[k], or base[source[k]] when `source` is not empty,
+  /// or A gathered by blocks after `analyze_blocks`; returns −1, or the column of a failed pivot.
   template <class T>
   int factor_front(int s, std::span<const double> base, std::span<const int> source);
   template <class T>
@@ -109,8 +127,20 @@ class SparseCholesky {
     int entry{};           ///< index of the value in A
     std::size_t offset{};  ///< its place in its supernode's panel
   };
-  std::vector<Entry> m_entries;            // A's values, grouped by supernode
-  std::vector<std::size_t> m_entry_start;  // per supernode, its first entry
+  std::vector<Entry> m_entries;  // A's values, grouped by supernode (after `analyze`)
+  /// A block of A in a panel (after `analyze_blocks`): values[source + a + stride·k] lands at
+  /// offset + a·f + k (f the front's rows), a < columns, k < rows (k ≥ a on the diagonal).
+  struct Block {
+    std::size_t offset{};
+    int source{};
+    int columns{}, rows{};
+    bool diagonal{};
+  };
+  std::vector<Block> m_blocks;             // grouped by supernode
+  int m_column_stride{};                   // the blocks' (0 after `analyze`)
+  std::size_t m_values{};                  // the values a factorisation reads (at least)
+  std::vector<int> m_group_of;             // per unknown, its group (analyze_groups)
+  std::vector<std::size_t> m_entry_start;  // per supernode, its first entry or block
   std::vector<int> m_failure;              // per thread: a failed pivot's column, or −1
   int m_threads{1};                        // threads of the analysis
   WorkerPool* m_lent_pool{};               // lend_pool's

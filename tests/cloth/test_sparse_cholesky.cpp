@@ -122,14 +122,16 @@ TEST(SparseCholesky, AFactorisationGatheringItsValuesIsBitwiseTheSame) {
 namespace {
 
 /// A block pattern like a cloth's: a grid of vertices joined to their eight neighbours, each
-/// with 1 to 3 unknowns, every fifth split in two parts (as a friction vertex's unknowns are:
-/// the slip coordinates after every other one), the parts in a shuffled order. Returns the
-/// scalar pattern and values (SPD), the parts' starts (groups) and each unknown's vertex.
+/// with 1 to 3 unknowns, every fifth split in two groups (as a friction vertex's unknowns are:
+/// the slip coordinates after every other one), the groups in a shuffled order. Holds the
+/// scalar pattern and values (SPD), and the same by blocks: each block's values in a 3×3
+/// column-major slot of `block_values`.
 struct BlockSystem {
   int n = 0;
   Upper u;
   Eigen::MatrixXd A;
-  std::vector<int> groups{0}, vertex_of;
+  std::vector<int> groups{0}, block_start{0}, block_row, block_source;
+  std::vector<double> block_values;
 };
 
 BlockSystem block_system(int side, std::mt19937& rng) {
@@ -148,20 +150,22 @@ BlockSystem block_system(int side, std::mt19937& rng) {
   }
   std::shuffle(parts.begin(), parts.end(), rng);
   BlockSystem s;
+  std::vector<int> vertex_of;  // per unknown
   for (const auto& [v, w] : parts) {
-    for (int k = 0; k < w; ++k) s.vertex_of.push_back(v);
-    s.groups.push_back(static_cast<int>(s.vertex_of.size()));
+    for (int k = 0; k < w; ++k) vertex_of.push_back(v);
+    s.groups.push_back(static_cast<int>(vertex_of.size()));
   }
-  s.n = static_cast<int>(s.vertex_of.size());
-  const auto adjacent = [&](int a, int b) {
+  s.n = static_cast<int>(vertex_of.size());
+  const auto coupled = [&](int i, int j) {
+    const int a = vertex_of[static_cast<std::size_t>(i)],
+              b = vertex_of[static_cast<std::size_t>(j)];
     return std::abs(a % side - b % side) <= 1 && std::abs(a / side - b / side) <= 1;
   };
   Eigen::MatrixXi pattern = Eigen::MatrixXi::Zero(s.n, s.n);
   s.A = Eigen::MatrixXd::Zero(s.n, s.n);
   for (int i = 0; i < s.n; ++i)
     for (int j = i + 1; j < s.n; ++j)
-      if (adjacent(s.vertex_of[static_cast<std::size_t>(i)],
-                   s.vertex_of[static_cast<std::size_t>(j)])) {
+      if (coupled(i, j)) {
         pattern(i, j) = pattern(j, i) = 1;
         s.A(i, j) = s.A(j, i) = uni(rng);
       }
@@ -170,50 +174,70 @@ BlockSystem block_system(int side, std::mt19937& rng) {
     s.A(i, i) = s.A.row(i).cwiseAbs().sum() + 0.1;
   }
   s.u = compress_upper(s.A, pattern);
+  const int ng = static_cast<int>(parts.size());
+  for (int g = 0; g < ng; ++g) {
+    const int g0 = s.groups[static_cast<std::size_t>(g)];
+    for (int h = 0; h <= g; ++h) {
+      const int h0 = s.groups[static_cast<std::size_t>(h)];
+      if (!coupled(h0, g0)) continue;
+      s.block_row.push_back(h);
+      s.block_source.push_back(static_cast<int>(s.block_values.size()));
+      s.block_values.resize(s.block_values.size() + 9, std::nan(""));  // unread entries NaN
+      for (int k = g0; k < s.groups[static_cast<std::size_t>(g) + 1]; ++k)
+        for (int a = h0; a < s.groups[static_cast<std::size_t>(h) + 1]; ++a)
+          s.block_values[static_cast<std::size_t>(s.block_source.back() + (a - h0) +
+                                                  3 * (k - g0))] = s.A(a, k);
+    }
+    s.block_start.push_back(static_cast<int>(s.block_row.size()));
+  }
   return s;
 }
 
 }  // namespace
 
-TEST(SparseCholesky, AnalysedByGroupsOfAlikeUnknownsTheFactorIsBitwiseTheSame) {
-  // The analysis of the groups' pattern must find the same supernodes, fronts and schedule as
-  // that of the unknowns: the same factor and solution, bitwise, on one or two threads.
+TEST(SparseCholesky, AnalysedByBlocksOfAlikeUnknownsTheFactorIsBitwiseTheSame) {
+  // The analysis of the groups' pattern and the gather by blocks must give the supernodes,
+  // fronts and schedule of the scalar analysis: the same factor and solution, bitwise, on one
+  // or two threads, in both precisions.
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   for (int trial = 0; trial < 3; ++trial) {
     const BlockSystem s = block_system(14, rng);
     ASSERT_LT(s.groups.size(), static_cast<std::size_t>(s.n));  // some groups hold several
     const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(s.n, [&] { return uni(rng); });
-    for (int threads : {1, 2}) {
-      SparseCholesky by_unknown, by_group;
-      by_unknown.analyze(s.n, s.u.col_start, s.u.row, threads);
-      by_group.analyze(s.n, s.u.col_start, s.u.row, threads, Precision::double_precision, s.groups);
-      EXPECT_EQ(by_group.supernodes(), by_unknown.supernodes());
-      EXPECT_EQ(by_group.factor_nonzeros(), by_unknown.factor_nonzeros());
-      EXPECT_EQ(by_group.factor_flops(), by_unknown.factor_flops());
-      EXPECT_EQ(by_group.parallel_share(), by_unknown.parallel_share());
-      ASSERT_EQ(by_unknown.factorize(s.u.value), -1);
-      ASSERT_EQ(by_group.factorize(s.u.value), -1);
-      Eigen::VectorXd x = b, y = b;
-      by_unknown.solve_in_place(std::span<double>(x.data(), static_cast<std::size_t>(s.n)));
-      by_group.solve_in_place(std::span<double>(y.data(), static_cast<std::size_t>(s.n)));
-      EXPECT_TRUE(x == y) << "trial " << trial << ", " << threads << " threads";
-      EXPECT_LE((s.A * y - b).norm(), 1e-12 * b.norm());
-    }
+    for (int threads : {1, 2})
+      for (Precision precision : {Precision::double_precision, Precision::single_precision}) {
+        SparseCholesky scalar, blocks;
+        scalar.analyze(s.n, s.u.col_start, s.u.row, threads, precision);
+        blocks.analyze_blocks(s.groups, s.block_start, s.block_row, s.block_source, 3, threads,
+                              precision);
+        EXPECT_EQ(blocks.supernodes(), scalar.supernodes());
+        EXPECT_EQ(blocks.factor_nonzeros(), scalar.factor_nonzeros());
+        EXPECT_EQ(blocks.factor_flops(), scalar.factor_flops());
+        EXPECT_EQ(blocks.parallel_share(), scalar.parallel_share());
+        ASSERT_EQ(scalar.factorize(s.u.value), -1);
+        ASSERT_EQ(blocks.factorize(s.block_values), -1);
+        Eigen::VectorXd x = b, y = b;
+        scalar.solve_in_place(std::span<double>(x.data(), static_cast<std::size_t>(s.n)));
+        blocks.solve_in_place(std::span<double>(y.data(), static_cast<std::size_t>(s.n)));
+        EXPECT_TRUE(x == y) << "trial " << trial << ", " << threads << " threads";
+        EXPECT_LE((s.A * y - b).norm(),
+                  (precision == Precision::double_precision ? 1e-12 : 1e-4) * b.norm());
+      }
   }
 }
 
-TEST(SparseCholeskyDeathTest, GroupsWhoseUnknownsAreNotAlikeAreRefused) {
-  // Unknowns 0 and 1 as one group, but only unknown 1 is coupled to unknown 2.
-  const std::vector<int> col_start{0, 1, 3, 5}, row{0, 0, 1, 1, 2};
-  const std::vector<int> groups{0, 2, 3};
+TEST(SparseCholeskyDeathTest, ABlockPatternWithoutItsDiagonalOrWithABlockTwiceIsRefused) {
+  // Groups {0, 1} and {2}: the second column's blocks are (0, 1) and its diagonal.
+  const std::vector<int> groups{0, 2, 3}, start{0, 1, 3}, source{0, 9, 18};
   SparseCholesky chol;
-  EXPECT_DEATH(chol.analyze(3, col_start, row, 1, Precision::double_precision, groups),
-               "internal error");
-  // Alike once unknown 0 is coupled to 2 as well.
-  const std::vector<int> alike_start{0, 1, 3, 6}, alike_row{0, 0, 1, 0, 1, 2};
-  chol.analyze(3, alike_start, alike_row, 1, Precision::double_precision, groups);
+  chol.analyze_blocks(groups, start, std::vector<int>{0, 0, 1}, source, 3);
   EXPECT_EQ(chol.supernodes(), 1);
+  EXPECT_DEATH(chol.analyze_blocks(groups, start, std::vector<int>{0, 0, 0}, source, 3),
+               "internal error");  // no diagonal block in the second column, (0, 1) twice
+  EXPECT_DEATH(chol.analyze_blocks(groups, std::vector<int>{0, 0, 2}, std::vector<int>{0, 1},
+                                   std::vector<int>{0, 9}, 3),
+               "internal error");  // no diagonal block in the first column
 }
 
 TEST(SparseCholesky, ReportsTheFirstNonPositivePivot) {
