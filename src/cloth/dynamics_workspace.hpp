@@ -12,8 +12,8 @@
 
 namespace dexcloth::cloth {
 
-/// A direct solver for the system: its upper triangle gathered in an elimination order of the
-/// vertices (or of the scalar unknowns), and the factorisation.
+/// A direct solver for the system: the factorisation of its blocks in an elimination order of
+/// the vertices (or of the scalar unknowns, a vertex's consecutive ones analysed as a group).
 struct DirectSystem {
   std::vector<int> order;      ///< vertex eliminated k-th (empty before a first analysis by vertex)
   std::vector<int> dof;        ///< permuted unknown k is original unknown dof[k]
@@ -104,8 +104,8 @@ struct DynamicsWorkspace {
 /// same system; the first assembly makes the default one.
 void split_assembly(const ClothModel& model, int pieces, DynamicsWorkspace& ws);
 
-/// Gathers the system's upper triangle in the vertex elimination `order` and analyses it for
-/// factorisations on `threads` threads.
+/// Analyses the system's blocks in the vertex elimination `order` for factorisations on
+/// `threads` threads (SparseCholesky::analyze_blocks, each vertex's unknowns a group).
 void analyse(const SystemPattern& pattern, std::span<const int> order, int threads, DirectSystem& d,
              Precision precision = Precision::double_precision);
 /// The same in an elimination order of the scalar unknowns: `dofs[k]` = 3v + c is unknown c of
