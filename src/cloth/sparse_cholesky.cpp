@@ -172,7 +172,8 @@ void SparseCholesky::analyze(int n, std::span<const int> col_start, std::span<co
     }
     group_start.push_back(static_cast<int>(group_row.size()));
   }
-  analyze_groups(groups, group_start, group_row);
+  std::vector<int> group_of;
+  analyze_groups(groups, group_start, group_row, group_of);
 
   // Where each value of A lands (grouped by supernode, in A's order within one): from A's lower
   // pattern by column (with each entry's index in `row`).
@@ -224,7 +225,8 @@ void SparseCholesky::analyze_blocks(std::span<const int> groups, std::span<const
     DEXCLOTH_DEMAND(diagonal);
     group_start.push_back(static_cast<int>(group_row.size()));
   }
-  analyze_groups(groups, group_start, group_row);
+  std::vector<int> group_of;
+  analyze_groups(groups, group_start, group_row, group_of);
 
   // Where each block lands: block (h, g) of A, h ≤ g, is the rows of g's unknowns in the
   // columns of h's, a dense piece of the panel of h's supernode, its rows consecutive there.
@@ -239,7 +241,7 @@ void SparseCholesky::analyze_blocks(std::span<const int> groups, std::span<const
     const int k1 = m_first[at(s)], k2 = m_first[at(s) + 1];
     const int f = m_row_start[at(s) + 1] - m_row_start[at(s)];
     for (int r = 0; r < f; ++r) position[at(m_rows[at(m_row_start[at(s)] + r)])] = r;
-    for (int h = m_group_of[at(k1)]; h < ng && groups[at(h)] < k2; ++h)
+    for (int h = group_of[at(k1)]; h < ng && groups[at(h)] < k2; ++h)
       for (int q = lower_start[at(h)]; q < lower_start[at(h) + 1]; ++q) {
         const int g = lower_row[at(q)], source = block_source[at(lower_entry[at(q)])];
         const int columns = groups[at(h) + 1] - groups[at(h)];
@@ -255,11 +257,10 @@ void SparseCholesky::analyze_blocks(std::span<const int> groups, std::span<const
 
 void SparseCholesky::analyze_groups(std::span<const int> groups,
                                     const std::vector<int>& group_start,
-                                    const std::vector<int>& group_row) {
+                                    const std::vector<int>& group_row, std::vector<int>& group_of) {
   const int ng = static_cast<int>(groups.size()) - 1;
   const int n = groups[at(ng)];
   m_n = n;
-  std::vector<int>& group_of = m_group_of;
   std::vector<int> width(at(ng));
   group_of.resize(at(n));
   for (int g = 0; g < ng; ++g) {

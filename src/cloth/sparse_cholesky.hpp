@@ -100,9 +100,9 @@ class SparseCholesky {
   /// in its columns) spread over their unknowns, the supernodes, fronts and schedule. A group's
   /// unknowns are alike (a dense block of A, the same rows before it): they stay alike through
   /// the elimination, a chain of the elimination tree within one supernode, so the analysis of
-  /// the groups' pattern is that of A's.
+  /// the groups' pattern is that of A's. `group_of`: each unknown's group.
   void analyze_groups(std::span<const int> groups, const std::vector<int>& group_start,
-                      const std::vector<int>& group_row);
+                      const std::vector<int>& group_row, std::vector<int>& group_of);
   /// Builds the multifrontal schedule (see the members below) from the supernodal tree
   /// (`sparent`, −1 for roots) and each front's flops.
   void schedule(const std::vector<int>& sparent, const std::vector<double>& work);
@@ -136,14 +136,13 @@ class SparseCholesky {
     int columns{}, rows{};
     bool diagonal{};
   };
-  std::vector<Block> m_blocks;             // grouped by supernode
-  int m_column_stride{};                   // the blocks' (0 after `analyze`)
-  std::size_t m_values{};                  // the values a factorisation reads (at least)
-  std::vector<int> m_group_of;             // per unknown, its group (analyze_groups)
-  std::vector<std::size_t> m_entry_start;  // per supernode, its first entry or block
-  std::vector<int> m_failure;              // per thread: a failed pivot's column, or −1
-  int m_threads{1};                        // threads of the analysis
-  WorkerPool* m_lent_pool{};               // lend_pool's
+  std::vector<Block> m_blocks;                     // grouped by supernode
+  int m_column_stride{};                           // the blocks' (0 after `analyze`)
+  std::size_t m_values{};                          // the values a factorisation reads (at least)
+  std::vector<std::size_t> m_entry_start;          // per supernode, its first entry or block
+  std::vector<int> m_failure;                      // per thread: a failed pivot's column, or −1
+  int m_threads{1};                                // threads of the analysis
+  WorkerPool* m_lent_pool{};                       // lend_pool's
   mutable std::unique_ptr<WorkerPool> m_own_pool;  // created when first needed, if nothing is lent
   /// The pool to run on: the lent one when it has m_threads threads, else the own one; null for
   /// one thread.
